@@ -1,0 +1,26 @@
+//! blastsph-solver: the SPH library. It knows no exact answers and no command line; a scene
+//! (particles, materials, domain, configuration) drives it through [`Simulation`].
+//!
+//! Order of operations in one step (see [`step`]): kick → drift → images → neighbours →
+//! density → equation of state → forces → kick → health check.
+
+pub mod boundary;
+pub mod eos;
+pub mod error;
+pub mod kernel;
+pub mod neighbours;
+pub mod operators;
+pub mod particles;
+pub mod physics;
+pub mod step;
+
+pub use boundary::{Boundary, Domain};
+pub use eos::{EquationOfState, IdealGas, Material};
+pub use error::SolverError;
+pub use kernel::{Kernel, KernelShape};
+pub use particles::Particles;
+pub use physics::{ArtificialViscosity, DensityMethod};
+pub use step::{Simulation, SimulationConfig, SmoothingLength};
+
+/// A point or vector in D dimensions.
+pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

@@ -1,0 +1,219 @@
+//! The particle store: structure of arrays, one code path for D = 1, 2, 3.
+//!
+//! Indices `0..n_real` are real particles; indices `n_real..len` are images (ghosts) made by the
+//! boundary conditions for one step and thrown away before the next. Whoever reorders particles
+//! calls [`Particles::permute`], which moves every field at once.
+
+use crate::Vector;
+
+/// How an image particle derives from its real source: which velocity components flip.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Image<const D: usize> {
+    pub source: u32,
+    /// +1 or −1 per axis (−1 where the image is a mirror across a wall normal to that axis).
+    pub velocity_sign: Vector<D>,
+    /// True if the image stands for a wall (its forces are the wall's reaction), false for a
+    /// periodic copy (its forces are internal).
+    pub is_wall: bool,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Particles<const D: usize> {
+    pub position: Vec<Vector<D>>,
+    pub velocity: Vec<Vector<D>>,
+    pub mass: Vec<f64>,
+    pub smoothing_length: Vec<f64>,
+    pub density: Vec<f64>,
+    pub internal_energy: Vec<f64>,
+    pub pressure: Vec<f64>,
+    pub sound_speed: Vec<f64>,
+    /// Material index per particle; empty when the scene has a single material (index 0).
+    pub material: Vec<u16>,
+    /// The particle's label at creation, kept through reordering (for outputs and diagnoses).
+    pub id: Vec<u32>,
+    // Rates of the last force evaluation (real particles only).
+    pub acceleration: Vec<Vector<D>>,
+    pub energy_rate: Vec<f64>,
+    /// Dρ/Dt; empty unless density is integrated by the continuity equation.
+    pub density_rate: Vec<f64>,
+    /// Largest pair signal speed seen by each particle in the last force evaluation.
+    pub signal_speed: Vec<f64>,
+    n_real: usize,
+    images: Vec<Image<D>>,
+}
+
+/// Initial state of one particle.
+#[derive(Clone, Copy, Debug)]
+pub struct ParticleInit<const D: usize> {
+    pub position: Vector<D>,
+    pub velocity: Vector<D>,
+    pub mass: f64,
+    pub smoothing_length: f64,
+    pub density: f64,
+    pub internal_energy: f64,
+    pub material: u16,
+}
+
+impl<const D: usize> Particles<D> {
+    /// Builds the store; `continuity_density` allocates Dρ/Dt, `multi_material` the material ids.
+    pub fn new(init: &[ParticleInit<D>], continuity_density: bool) -> Self {
+        let n = init.len();
+        let multi_material = init.iter().any(|p| p.material != 0);
+        Self {
+            position: init.iter().map(|p| p.position).collect(),
+            velocity: init.iter().map(|p| p.velocity).collect(),
+            mass: init.iter().map(|p| p.mass).collect(),
+            smoothing_length: init.iter().map(|p| p.smoothing_length).collect(),
+            density: init.iter().map(|p| p.density).collect(),
+            internal_energy: init.iter().map(|p| p.internal_energy).collect(),
+            pressure: vec![0.0; n],
+            sound_speed: vec![0.0; n],
+            material: if multi_material {
+                init.iter().map(|p| p.material).collect()
+            } else {
+                Vec::new()
+            },
+            id: (0..n as u32).collect(),
+            acceleration: vec![Vector::zeros(); n],
+            energy_rate: vec![0.0; n],
+            density_rate: if continuity_density {
+                vec![0.0; n]
+            } else {
+                Vec::new()
+            },
+            signal_speed: vec![0.0; n],
+            n_real: n,
+            images: Vec::new(),
+        }
+    }
+
+    /// Number of real particles.
+    pub fn n_real(&self) -> usize {
+        self.n_real
+    }
+
+    /// Number of real particles plus images.
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    #[inline]
+    pub fn material_of(&self, i: usize) -> usize {
+        let i = self.real_index(i);
+        self.material.get(i).map_or(0, |&m| m as usize)
+    }
+
+    /// The real particle that index `i` is, or stands for.
+    #[inline]
+    pub fn real_index(&self, i: usize) -> usize {
+        if i < self.n_real {
+            i
+        } else {
+            self.images[i - self.n_real].source as usize
+        }
+    }
+
+    #[inline]
+    pub fn image(&self, i: usize) -> Option<&Image<D>> {
+        i.checked_sub(self.n_real).map(|k| &self.images[k])
+    }
+
+    /// Removes all images.
+    pub fn clear_images(&mut self) {
+        let n = self.n_real;
+        self.position.truncate(n);
+        self.velocity.truncate(n);
+        self.mass.truncate(n);
+        self.smoothing_length.truncate(n);
+        self.density.truncate(n);
+        self.internal_energy.truncate(n);
+        self.pressure.truncate(n);
+        self.sound_speed.truncate(n);
+        self.images.clear();
+    }
+
+    /// Appends an image of particle `of` (real or image) at `position`.
+    pub fn push_image(&mut self, of: usize, position: Vector<D>, flip: Vector<D>, is_wall: bool) {
+        let (source, sign, wall) = match self.image(of) {
+            Some(im) => (
+                im.source,
+                im.velocity_sign.component_mul(&flip),
+                im.is_wall || is_wall,
+            ),
+            None => (of as u32, flip, is_wall),
+        };
+        let s = source as usize;
+        self.position.push(position);
+        self.velocity.push(self.velocity[s].component_mul(&sign));
+        self.mass.push(self.mass[s]);
+        self.smoothing_length.push(self.smoothing_length[s]);
+        self.density.push(self.density[s]);
+        self.internal_energy.push(self.internal_energy[s]);
+        self.pressure.push(self.pressure[s]);
+        self.sound_speed.push(self.sound_speed[s]);
+        self.images.push(Image {
+            source,
+            velocity_sign: sign,
+            is_wall: wall,
+        });
+    }
+
+    /// Copies the thermodynamic state (ρ, e, p, c, h) of every real particle onto its images.
+    pub fn refresh_image_state(&mut self) {
+        for (k, image) in self.images.iter().enumerate() {
+            let (i, s) = (self.n_real + k, image.source as usize);
+            self.density[i] = self.density[s];
+            self.internal_energy[i] = self.internal_energy[s];
+            self.pressure[i] = self.pressure[s];
+            self.sound_speed[i] = self.sound_speed[s];
+            self.smoothing_length[i] = self.smoothing_length[s];
+        }
+    }
+
+    /// Reorders the real particles so that new index k holds old index `order[k]`, moving every
+    /// field at once. Images must have been cleared.
+    pub fn permute(&mut self, order: &[usize]) {
+        assert!(self.images.is_empty(), "clear images before reordering");
+        assert_eq!(order.len(), self.n_real);
+        fn apply<T: Copy>(field: &mut Vec<T>, order: &[usize]) {
+            if !field.is_empty() {
+                *field = order.iter().map(|&k| field[k]).collect();
+            }
+        }
+        apply(&mut self.position, order);
+        apply(&mut self.velocity, order);
+        apply(&mut self.mass, order);
+        apply(&mut self.smoothing_length, order);
+        apply(&mut self.density, order);
+        apply(&mut self.internal_energy, order);
+        apply(&mut self.pressure, order);
+        apply(&mut self.sound_speed, order);
+        apply(&mut self.material, order);
+        apply(&mut self.id, order);
+        apply(&mut self.acceleration, order);
+        apply(&mut self.energy_rate, order);
+        apply(&mut self.density_rate, order);
+        apply(&mut self.signal_speed, order);
+    }
+
+    /// Total mass of the real particles.
+    pub fn total_mass(&self) -> f64 {
+        self.mass[..self.n_real].iter().sum()
+    }
+
+    /// Total momentum Σ m v of the real particles.
+    pub fn total_momentum(&self) -> Vector<D> {
+        (0..self.n_real).fold(Vector::zeros(), |p, i| p + self.velocity[i] * self.mass[i])
+    }
+
+    /// Total energy Σ m (v²/2 + e) of the real particles.
+    pub fn total_energy(&self) -> f64 {
+        (0..self.n_real)
+            .map(|i| self.mass[i] * (0.5 * self.velocity[i].norm_squared() + self.internal_energy[i]))
+            .sum()
+    }
+}

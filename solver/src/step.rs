@@ -1,0 +1,345 @@
+//! The simulation: its state and one time step, in the order of operations.
+//!
+//! Integration is kick–drift–kick leapfrog (second order, time-reversible without viscosity):
+//! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted
+//! v* = v^{n+½} + a^n Δt/2 (and likewise e, ρ), then v^{n+1} = v^{n+½} + a^{n+1} Δt/2.
+//! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
+//! signal speed, and the force criterion).
+
+use crate::boundary::Domain;
+use crate::eos::Material;
+use crate::error::SolverError;
+use crate::kernel::{Kernel, KernelShape};
+use crate::neighbours::{find_neighbours, CellGrid, NeighbourList};
+use crate::particles::{ParticleInit, Particles};
+use crate::physics::{self, ArtificialViscosity, DensityMethod};
+use crate::Vector;
+
+/// How each particle's smoothing length is set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SmoothingLength {
+    /// h stays as given.
+    Fixed,
+    /// h_i = η (m_i/ρ_i)^{1/D} from the latest density, before each neighbour search.
+    FollowDensity { eta: f64 },
+}
+
+/// The allowed range of the Courant number C (stable for every shock tube in the suite and the
+/// jitter stress test; above it the leapfrog step starts to amplify sound waves).
+pub const CFL_RANGE: (f64, f64) = (0.01, 0.5);
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulationConfig {
+    pub kernel: KernelShape,
+    pub density: DensityMethod,
+    pub viscosity: ArtificialViscosity,
+    pub smoothing: SmoothingLength,
+    /// Courant number C.
+    pub cfl: f64,
+    /// A time step below this (s) stops the run as collapsed.
+    pub min_time_step: f64,
+}
+
+impl Default for SimulationConfig {
+    fn default() -> Self {
+        Self {
+            kernel: KernelShape::CubicSpline,
+            density: DensityMethod::Summation,
+            viscosity: ArtificialViscosity::default(),
+            smoothing: SmoothingLength::FollowDensity { eta: 1.2 },
+            cfl: 0.3,
+            min_time_step: 1e-15,
+        }
+    }
+}
+
+impl SimulationConfig {
+    pub fn validate(&self) -> Result<(), SolverError> {
+        let (lo, hi) = CFL_RANGE;
+        if !(lo..=hi).contains(&self.cfl) {
+            return Err(SolverError::invalid("cfl", self.cfl, &format!("{lo} ≤ C ≤ {hi}")));
+        }
+        if let SmoothingLength::FollowDensity { eta } = self.smoothing {
+            if !(0.5..=4.0).contains(&eta) {
+                return Err(SolverError::invalid("eta", eta, "0.5 ≤ η ≤ 4"));
+            }
+        }
+        if !(self.min_time_step >= 0.0) {
+            return Err(SolverError::invalid("min_time_step", self.min_time_step, "≥ 0"));
+        }
+        self.viscosity.validate()
+    }
+}
+
+/// Values at the half step, kept between the drift and the closing kick.
+#[derive(Clone, Debug, Default)]
+struct HalfStep<const D: usize> {
+    velocity: Vec<Vector<D>>,
+    internal_energy: Vec<f64>,
+    density: Vec<f64>,
+}
+
+#[derive(Debug)]
+pub struct Simulation<const D: usize> {
+    particles: Particles<D>,
+    materials: Vec<Material>,
+    domain: Domain<D>,
+    config: SimulationConfig,
+    kernel: Kernel<D>,
+    neighbours: NeighbourList,
+    half: HalfStep<D>,
+    time: f64,
+    steps: u64,
+    wall_force: Vector<D>,
+    wall_impulse: Vector<D>,
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Checks the input, then evaluates density, pressure and forces of the initial state.
+    pub fn new(
+        init: &[ParticleInit<D>],
+        materials: Vec<Material>,
+        domain: Domain<D>,
+        config: SimulationConfig,
+    ) -> Result<Self, SolverError> {
+        config.validate()?;
+        validate_particles(init, materials.len())?;
+        let continuity = config.density == DensityMethod::Continuity;
+        let mut sim = Self {
+            particles: Particles::new(init, continuity),
+            materials,
+            domain,
+            config,
+            kernel: Kernel::new(config.kernel),
+            neighbours: NeighbourList::default(),
+            half: HalfStep::default(),
+            time: 0.0,
+            steps: 0,
+            wall_force: Vector::zeros(),
+            wall_impulse: Vector::zeros(),
+        };
+        sim.evaluate_rates();
+        sim.check_health()?;
+        Ok(sim)
+    }
+
+    pub fn particles(&self) -> &Particles<D> {
+        &self.particles
+    }
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+    pub fn config(&self) -> &SimulationConfig {
+        &self.config
+    }
+    /// ∫ F_wall dt: the momentum the walls have delivered so far.
+    pub fn wall_impulse(&self) -> Vector<D> {
+        self.wall_impulse
+    }
+
+    /// Advances to `t_end`, calling `progress(t)` after each step.
+    pub fn run_until(&mut self, t_end: f64, mut progress: impl FnMut(f64)) -> Result<(), SolverError> {
+        while self.time < t_end {
+            let dt = self.stable_time_step()?;
+            let remaining = t_end - self.time;
+            // take the last step exactly to t_end; avoid leaving a sliver of a step behind
+            let dt = if dt >= remaining * (1.0 - 1e-9) { remaining } else { dt.min(0.5 * remaining).max(dt) };
+            self.step(dt)?;
+            if self.time >= t_end - 1e-12 * t_end {
+                self.time = t_end;
+            }
+            progress(self.time);
+        }
+        Ok(())
+    }
+
+    /// One step of length `dt`.
+    pub fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.reorder_for_locality();
+        self.kick(0.5 * dt);
+        self.drift_and_predict(dt);
+        let wall_force_before = self.wall_force;
+        self.evaluate_rates();
+        self.close_kick(0.5 * dt);
+        self.wall_impulse += (wall_force_before + self.wall_force) * (0.5 * dt);
+        self.time += dt;
+        self.steps += 1;
+        self.check_health()
+    }
+
+    /// The stable global time step, or a diagnosis if it has collapsed.
+    pub fn stable_time_step(&self) -> Result<f64, SolverError> {
+        let p = &self.particles;
+        let (mut dt, mut limiting) = (f64::INFINITY, 0);
+        for i in 0..p.n_real() {
+            let h = p.smoothing_length[i];
+            let courant = h / p.signal_speed[i];
+            let force = (h / p.acceleration[i].norm()).sqrt();
+            let dt_i = self.config.cfl * courant.min(force);
+            if dt_i < dt {
+                (dt, limiting) = (dt_i, i);
+            }
+        }
+        if !(dt >= self.config.min_time_step) {
+            return Err(SolverError::TimeStepCollapse {
+                step: self.steps,
+                time: self.time,
+                dt,
+                floor: self.config.min_time_step,
+                particle: p.id[limiting],
+                material: self.materials[p.material_of(limiting)].name.clone(),
+            });
+        }
+        Ok(dt)
+    }
+
+    /// Sorts particles by cell so that neighbours sit close in memory.
+    fn reorder_for_locality(&mut self) {
+        let p = &mut self.particles;
+        p.clear_images();
+        let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
+        let grid = CellGrid::build(&p.position, self.kernel.support_radius(h_max));
+        let order: Vec<usize> = grid.cell_order().collect();
+        if order.iter().enumerate().any(|(k, &i)| k != i) {
+            p.permute(&order);
+        }
+    }
+
+    /// v += a·dt, e += ė·dt, ρ += ρ̇·dt (continuity) for the real particles.
+    fn kick(&mut self, dt: f64) {
+        let p = &mut self.particles;
+        for i in 0..p.n_real() {
+            p.velocity[i] += p.acceleration[i] * dt;
+            p.internal_energy[i] += p.energy_rate[i] * dt;
+        }
+        for (rho, rate) in p.density.iter_mut().zip(&p.density_rate) {
+            *rho += rate * dt;
+        }
+    }
+
+    /// x += v^{n+½}·dt, keeps the half-step values and sets the predicted ones for the forces.
+    fn drift_and_predict(&mut self, dt: f64) {
+        let p = &mut self.particles;
+        let n = p.n_real();
+        for i in 0..n {
+            p.position[i] += p.velocity[i] * dt;
+        }
+        self.domain.wrap_periodic(p);
+        self.half.velocity.clear();
+        self.half.velocity.extend_from_slice(&p.velocity[..n]);
+        self.half.internal_energy.clear();
+        self.half.internal_energy.extend_from_slice(&p.internal_energy[..n]);
+        self.half.density.clear();
+        if !p.density_rate.is_empty() {
+            self.half.density.extend_from_slice(&p.density[..n]);
+        }
+        self.kick(0.5 * dt);
+    }
+
+    /// v = v^{n+½} + a^{n+1}·dt (and e, ρ) from the values kept at the half step.
+    fn close_kick(&mut self, dt: f64) {
+        let p = &mut self.particles;
+        for i in 0..p.n_real() {
+            p.velocity[i] = self.half.velocity[i] + p.acceleration[i] * dt;
+            p.internal_energy[i] = self.half.internal_energy[i] + p.energy_rate[i] * dt;
+        }
+        for (i, rho0) in self.half.density.iter().enumerate() {
+            p.density[i] = rho0 + p.density_rate[i] * dt;
+        }
+    }
+
+    /// Smoothing lengths → images → neighbours → density → EOS → forces.
+    fn evaluate_rates(&mut self) {
+        self.update_smoothing_lengths();
+        let h_max = self.particles.smoothing_length.iter().cloned().fold(0.0, f64::max);
+        self.domain.make_images(&mut self.particles, self.kernel.support_radius(h_max));
+        let p = &mut self.particles;
+        self.neighbours = find_neighbours(&p.position, &p.smoothing_length, self.kernel.shape().support(), p.n_real());
+        if self.config.density == DensityMethod::Summation {
+            physics::summation_density(p, &self.neighbours, &self.kernel);
+        }
+        for i in 0..p.n_real() {
+            let eos = &self.materials[p.material_of(i)].eos;
+            p.pressure[i] = eos.pressure(p.density[i], p.internal_energy[i]);
+            p.sound_speed[i] = eos.sound_speed(p.density[i], p.internal_energy[i]);
+        }
+        p.refresh_image_state();
+        self.wall_force = physics::compute_rates(p, &self.neighbours, &self.kernel, &self.config.viscosity);
+    }
+
+    fn update_smoothing_lengths(&mut self) {
+        if let SmoothingLength::FollowDensity { eta } = self.config.smoothing {
+            let p = &mut self.particles;
+            for i in 0..p.n_real() {
+                p.smoothing_length[i] = eta * (p.mass[i] / p.density[i]).powf(1.0 / D as f64);
+            }
+        }
+    }
+
+    /// Stops the run with a diagnosis if any particle has left the physical range.
+    fn check_health(&self) -> Result<(), SolverError> {
+        let p = &self.particles;
+        for i in 0..p.n_real() {
+            let material = &self.materials[p.material_of(i)];
+            let pressure = material.eos.pressure(p.density[i], p.internal_energy[i]);
+            let failure = if !p.position[i].iter().all(|x| x.is_finite()) {
+                Some(("position", p.position[i].norm()))
+            } else if !p.velocity[i].iter().all(|v| v.is_finite()) {
+                Some(("velocity", p.velocity[i].norm()))
+            } else if !(p.density[i] > 0.0 && p.density[i].is_finite()) {
+                Some(("density", p.density[i]))
+            } else if !p.internal_energy[i].is_finite() {
+                Some(("internal energy", p.internal_energy[i]))
+            } else if !(pressure >= material.eos.min_pressure()) {
+                Some(("pressure", pressure))
+            } else {
+                self.domain
+                    .outside_wall(&p.position[i])
+                    .map(|a| ("position beyond a wall on axis", a as f64))
+            };
+            if let Some((quantity, value)) = failure {
+                return Err(SolverError::BlowUp {
+                    step: self.steps,
+                    time: self.time,
+                    particle: p.id[i],
+                    material: material.name.clone(),
+                    position: p.position[i].iter().copied().collect(),
+                    quantity,
+                    value,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+fn validate_particles<const D: usize>(init: &[ParticleInit<D>], n_materials: usize) -> Result<(), SolverError> {
+    if init.is_empty() {
+        return Err(SolverError::invalid("particles", 0, "at least one particle"));
+    }
+    for (i, p) in init.iter().enumerate() {
+        let field = |name: &str| format!("particle {i} {name}");
+        if !(p.mass > 0.0 && p.mass.is_finite()) {
+            return Err(SolverError::invalid(&field("mass"), p.mass, "finite and > 0"));
+        }
+        if !(p.smoothing_length > 0.0 && p.smoothing_length.is_finite()) {
+            return Err(SolverError::invalid(&field("smoothing length"), p.smoothing_length, "finite and > 0"));
+        }
+        if !(p.density > 0.0 && p.density.is_finite()) {
+            return Err(SolverError::invalid(&field("density"), p.density, "finite and > 0"));
+        }
+        if !p.internal_energy.is_finite() || !p.position.iter().chain(p.velocity.iter()).all(|x| x.is_finite()) {
+            return Err(SolverError::invalid(&field("state"), "non-finite", "finite numbers"));
+        }
+        if p.material as usize >= n_materials {
+            return Err(SolverError::invalid(&field("material"), p.material, &format!("< {n_materials}")));
+        }
+    }
+    Ok(())
+}
