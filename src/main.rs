@@ -1,1 +1,264 @@
-fn main(){}
+//! `blastsph`: the command line. It parses, shows progress, prints tables and writes files; the
+//! work is done by `blastsph-verification` and `blastsph-solver`.
+
+use blastsph_verification::params::parse_assignment;
+use blastsph_verification::riemann::{self, GasState, Pattern};
+use blastsph_verification::{problems, report, Level, VerifyError};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "blastsph",
+    version,
+    about = "SPH for blast and impact, verified on problems with known answers"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum LevelArg {
+    Quick,
+    Full,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run canonical problems against their exact answers (all of them if none is named).
+    Verify {
+        /// Problems to run; `blastsph verify --list` shows them.
+        problems: Vec<String>,
+        /// quick: the levels `cargo test` runs; full: convergence studies.
+        #[arg(long, value_enum, default_value = "quick")]
+        level: LevelArg,
+        /// Folder for <problem>.json, .csv and .svg.
+        #[arg(long, default_value = "results/verify")]
+        out: PathBuf,
+        /// Worker threads (default: all cores). Results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Override a problem parameter, e.g. --set t_end=0.15 --set n_left=640.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// List the problems and their parameters, then exit.
+        #[arg(long)]
+        list: bool,
+    },
+    /// Solve a Riemann problem of the ideal gas exactly and print the star state.
+    Riemann {
+        /// Left state ρ,u,p (SI).
+        #[arg(long, allow_hyphen_values = true)]
+        left: String,
+        /// Right state ρ,u,p (SI).
+        #[arg(long, allow_hyphen_values = true)]
+        right: String,
+        #[arg(long, default_value_t = 1.4)]
+        gamma: f64,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Verify {
+            problems,
+            level,
+            out,
+            threads,
+            set,
+            list,
+        } => {
+            if list {
+                print_problem_list();
+                return ExitCode::SUCCESS;
+            }
+            verify(problems, level, out, threads, set)
+        }
+        Command::Riemann {
+            left,
+            right,
+            gamma,
+            json,
+        } => riemann_command(&left, &right, gamma, json).map(|_| true),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn print_problem_list() {
+    for p in problems::all() {
+        println!("{:22} {}", p.name, p.summary);
+        for spec in &p.params {
+            println!(
+                "    {:10} quick={:16} full={:16} {}",
+                spec.key, spec.quick, spec.full, spec.help
+            );
+        }
+    }
+}
+
+/// Runs the problems; Ok(true) when every check passed.
+fn verify(
+    names: Vec<String>,
+    level: LevelArg,
+    out: PathBuf,
+    threads: Option<usize>,
+    set: Vec<String>,
+) -> Result<bool, VerifyError> {
+    let level = match level {
+        LevelArg::Quick => Level::Quick,
+        LevelArg::Full => Level::Full,
+    };
+    let names: Vec<String> = if names.is_empty() {
+        problems::names().iter().map(|s| s.to_string()).collect()
+    } else {
+        names
+    };
+    // check every name and override before running anything
+    let overrides = set
+        .iter()
+        .map(|s| parse_assignment(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    for name in &names {
+        let info = problems::find(name)?;
+        blastsph_verification::params::Params::new(name, &info.params, level, &overrides)?;
+    }
+    if let Some(n) = threads {
+        if n == 0 {
+            return Err(VerifyError::bad_value("--threads", n, "≥ 1"));
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| {
+                VerifyError::bad_value(
+                    "--threads",
+                    format!("{n} ({e})"),
+                    "a thread count the system can start",
+                )
+            })?;
+    }
+    println!(
+        "{:<22} {:>9} {:>7} {:>9}  {:<44} {:<20} result",
+        "problem", "particles", "steps", "wall s", "main errors (finest run)", "observed order"
+    );
+    let mut all_pass = true;
+    for name in &names {
+        let bar = ProgressBar::new(1000).with_message(name.clone());
+        bar.set_style(
+            ProgressStyle::with_template("{msg:22} [{bar:40}] {percent:>3}% eta {eta}")
+                .expect("valid template"),
+        );
+        let output = problems::run(name, level, &overrides, &|f| {
+            bar.set_position((f * 1000.0) as u64)
+        })?;
+        bar.finish_and_clear();
+        report::write_outputs(&out, &output)?;
+        let r = &output.record;
+        let finest = r
+            .runs
+            .iter()
+            .filter(|run| run.failure.is_none())
+            .max_by_key(|run| run.n_particles)
+            .or(r.runs.last());
+        let errors = finest
+            .map(|run| {
+                run.errors
+                    .iter()
+                    .take(3)
+                    .map(|(k, v)| format!("{k}={v:.2e}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
+            .unwrap_or_default();
+        let orders = r
+            .order
+            .iter()
+            .take(2)
+            .map(|(k, v)| format!("{}={v:.2}", k.trim_start_matches("l1_")))
+            .collect::<Vec<_>>()
+            .join(" ");
+        println!(
+            "{:<22} {:>9} {:>7} {:>9.3}  {:<44} {:<20} {}",
+            name,
+            finest.map_or(0, |run| run.n_particles),
+            finest.map_or(0, |run| run.steps),
+            r.wall_s,
+            errors,
+            orders,
+            if r.pass { "PASS" } else { "FAIL" }
+        );
+        for check in r.checks.iter().filter(|c| !c.pass) {
+            println!(
+                "    FAIL {}: {:.4e} (must be {} {:.4e})",
+                check.name, check.value, check.relation, check.limit
+            );
+        }
+        for run in &r.runs {
+            if let Some(failure) = &run.failure {
+                println!("    {}: stopped: {failure}", run.label);
+            }
+        }
+        all_pass &= r.pass;
+    }
+    println!("outputs in {}", out.display());
+    Ok(all_pass)
+}
+
+fn parse_state(side: &str, text: &str) -> Result<GasState, VerifyError> {
+    let parts: Vec<&str> = text.split(',').collect();
+    let bad = || VerifyError::bad_value(&format!("--{side}"), text, "three numbers RHO,U,P");
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let v: Vec<f64> = parts
+        .iter()
+        .map(|s| s.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    Ok(GasState::new(v[0], v[1], v[2]))
+}
+
+fn riemann_command(left: &str, right: &str, gamma: f64, json: bool) -> Result<(), VerifyError> {
+    let solution = riemann::solve(
+        parse_state("left", left)?,
+        parse_state("right", right)?,
+        gamma,
+    )?;
+    let (p_star, u_star, rho_l, rho_r) = match solution.pattern {
+        Pattern::Star {
+            p_star,
+            u_star,
+            rho_star_left,
+            rho_star_right,
+            ..
+        } => (p_star, u_star, rho_star_left, rho_star_right),
+        _ => (0.0, f64::NAN, 0.0, 0.0),
+    };
+    let waves = solution.describe();
+    if json {
+        let value = serde_json::json!({
+            "p_star": p_star, "u_star": if u_star.is_finite() { Some(u_star) } else { None },
+            "rho_star_l": rho_l, "rho_star_r": rho_r, "waves": waves, "gamma": gamma,
+        });
+        println!("{}", serde_json::to_string_pretty(&value).expect("json"));
+    } else {
+        println!("waves:      {waves}");
+        println!("p*        = {p_star:.6e}");
+        println!("u*        = {u_star:.6e}");
+        println!("rho*_left = {rho_l:.6e}");
+        println!("rho*_right= {rho_r:.6e}");
+    }
+    Ok(())
+}

@@ -53,8 +53,22 @@ impl<const D: usize> Domain<D> {
             for i in 0..particles.len() {
                 let x = particles.position[i];
                 for (near, target) in [
-                    (x[a] - lo < reach, if periodic { x[a] + (hi - lo) } else { 2.0 * lo - x[a] }),
-                    (hi - x[a] < reach, if periodic { x[a] - (hi - lo) } else { 2.0 * hi - x[a] }),
+                    (
+                        x[a] - lo < reach,
+                        if periodic {
+                            x[a] + (hi - lo)
+                        } else {
+                            2.0 * lo - x[a]
+                        },
+                    ),
+                    (
+                        hi - x[a] < reach,
+                        if periodic {
+                            x[a] - (hi - lo)
+                        } else {
+                            2.0 * hi - x[a]
+                        },
+                    ),
                 ] {
                     if near {
                         let mut y = x;
@@ -79,6 +93,8 @@ impl<const D: usize> Domain<D> {
 
     /// The axis of a wall that `x` has passed through, if any.
     pub fn outside_wall(&self, x: &Vector<D>) -> Option<usize> {
-        (0..D).find(|&a| self.boundary[a] == Boundary::Wall && (x[a] < self.lo[a] || x[a] > self.hi[a]))
+        (0..D).find(|&a| {
+            self.boundary[a] == Boundary::Wall && (x[a] < self.lo[a] || x[a] > self.hi[a])
+        })
     }
 }

@@ -19,7 +19,7 @@ pub use eos::{EquationOfState, IdealGas, Material};
 pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
-pub use physics::{ArtificialViscosity, DensityMethod};
+pub use physics::{ArtificialViscosity, DensityMethod, EnergyEquation};
 pub use step::{Simulation, SimulationConfig, SmoothingLength};
 
 /// A point or vector in D dimensions.

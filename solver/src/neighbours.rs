@@ -261,7 +261,9 @@ mod tests {
 
     #[test]
     fn a_far_outlier_does_not_blow_up_the_grid() {
-        let mut x: Vec<Vector<3>> = (0..100).map(|i| Vector::<3>::repeat(i as f64 * 0.01)).collect();
+        let mut x: Vec<Vector<3>> = (0..100)
+            .map(|i| Vector::<3>::repeat(i as f64 * 0.01))
+            .collect();
         x.push(Vector::<3>::repeat(1e9));
         let h = vec![0.02; x.len()];
         let lists = find_neighbours(&x, &h, 2.0, x.len());

@@ -22,7 +22,12 @@ pub struct PointSet<'a, const D: usize> {
 }
 
 /// Standard SPH interpolant Σ_j u_j W(x − x_j, h) V_j.
-pub fn sph_interpolate<const D: usize>(kernel: &Kernel<D>, h: f64, set: &PointSet<D>, x: &Vector<D>) -> f64 {
+pub fn sph_interpolate<const D: usize>(
+    kernel: &Kernel<D>,
+    h: f64,
+    set: &PointSet<D>,
+    x: &Vector<D>,
+) -> f64 {
     (0..set.position.len())
         .map(|j| set.value[j] * kernel.value((x - set.position[j]).norm(), h) * set.volume[j])
         .sum()
@@ -45,7 +50,12 @@ pub fn shepard_interpolate<const D: usize>(
 }
 
 /// Standard SPH gradient at data point i: Σ_j u_j ∇_i W_ij V_j.
-pub fn sph_gradient<const D: usize>(kernel: &Kernel<D>, h: f64, set: &PointSet<D>, i: usize) -> Vector<D> {
+pub fn sph_gradient<const D: usize>(
+    kernel: &Kernel<D>,
+    h: f64,
+    set: &PointSet<D>,
+    i: usize,
+) -> Vector<D> {
     let xi = set.position[i];
     (0..set.position.len()).fold(Vector::zeros(), |g, j| {
         let dx = xi - set.position[j];
@@ -73,5 +83,7 @@ pub fn cspm_gradient<const D: usize>(
     // a D×D system; the dynamic form sidesteps nalgebra's trait bounds on generic Const<D>
     let b = nalgebra::DMatrix::from_column_slice(D, D, b.as_slice());
     let rhs = nalgebra::DVector::from_column_slice(rhs.as_slice());
-    b.lu().solve(&rhs).map(|g| Vector::<D>::from_column_slice(g.as_slice()))
+    b.lu()
+        .solve(&rhs)
+        .map(|g| Vector::<D>::from_column_slice(g.as_slice()))
 }

@@ -213,7 +213,9 @@ impl<const D: usize> Particles<D> {
     /// Total energy Σ m (v²/2 + e) of the real particles.
     pub fn total_energy(&self) -> f64 {
         (0..self.n_real)
-            .map(|i| self.mass[i] * (0.5 * self.velocity[i].norm_squared() + self.internal_energy[i]))
+            .map(|i| {
+                self.mass[i] * (0.5 * self.velocity[i].norm_squared() + self.internal_energy[i])
+            })
             .sum()
     }
 }

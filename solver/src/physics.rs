@@ -38,6 +38,29 @@ impl DensityMethod {
     }
 }
 
+/// Which form of the energy equation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnergyEquation {
+    /// De_i/Dt = Σ_j m_j (p_i/ρ_i² + Π_ij/2) v_ij·∇_i W_ij (Monaghan 1992, eq. 2.23): the form
+    /// that follows from the SPH Lagrangian. Only the particle's own pressure does work on it, so
+    /// a cold particle next to a hot one cannot be driven to negative energy (Toro's Test 3,
+    /// pressure ratio 10⁵, stays positive). The default.
+    OwnPressure,
+    /// De_i/Dt = ½ Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) v_ij·∇_i W_ij (the seed's Table 3-3).
+    /// Equally conservative, but across a strong pressure jump it takes energy from the cold side
+    /// (Toro's Test 3 reaches negative pressure in its first step).
+    Symmetric,
+}
+
+impl EnergyEquation {
+    pub fn name(self) -> &'static str {
+        match self {
+            EnergyEquation::OwnPressure => "own-pressure",
+            EnergyEquation::Symmetric => "symmetric",
+        }
+    }
+}
+
 /// Monaghan–Gingold artificial viscosity (Monaghan & Gingold 1983; Monaghan 1992, eq. 4.1):
 /// Π_ij = (−α c̄ μ + β μ²)/ρ̄ for approaching pairs, μ = h̄ v_ij·x_ij / (r² + η² h̄²).
 ///
@@ -111,11 +134,14 @@ pub fn summation_density<const D: usize>(
         .into_par_iter()
         .map(|i| {
             let (xi, hi) = (p.position[i], p.smoothing_length[i]);
-            neighbours.of(i).iter().fold(p.mass[i] * kernel.value(0.0, hi), |rho, &j| {
-                let j = j as usize;
-                let r = (xi - p.position[j]).norm();
-                rho + p.mass[j] * kernel.value(r, 0.5 * (hi + p.smoothing_length[j]))
-            })
+            neighbours
+                .of(i)
+                .iter()
+                .fold(p.mass[i] * kernel.value(0.0, hi), |rho, &j| {
+                    let j = j as usize;
+                    let r = (xi - p.position[j]).norm();
+                    rho + p.mass[j] * kernel.value(r, 0.5 * (hi + p.smoothing_length[j]))
+                })
         })
         .collect();
     particles.density[..n].copy_from_slice(&density);
@@ -134,7 +160,7 @@ struct Rates<const D: usize> {
 
 /// Momentum, energy and (for continuity density) density rates of the real particles:
 /// Dv_i/Dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇_i W_ij,
-/// De_i/Dt = ½ Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) v_ij·∇_i W_ij,
+/// De_i/Dt in the chosen [`EnergyEquation`] form,
 /// Dρ_i/Dt = Σ_j m_j v_ij·∇_i W_ij.
 /// Returns the total force the walls exert on the particles.
 pub fn compute_rates<const D: usize>(
@@ -142,6 +168,7 @@ pub fn compute_rates<const D: usize>(
     neighbours: &NeighbourList,
     kernel: &Kernel<D>,
     viscosity: &ArtificialViscosity,
+    energy: EnergyEquation,
 ) -> Vector<D> {
     let n = particles.n_real();
     let p = &*particles;
@@ -173,9 +200,18 @@ pub fn compute_rates<const D: usize>(
                 let v_dot_grad = v_ij.dot(&grad);
                 let force = grad * (-coefficient);
                 out.acceleration += force;
-                out.energy_rate += 0.5 * coefficient * v_dot_grad;
+                out.energy_rate += match energy {
+                    EnergyEquation::OwnPressure => {
+                        m_j * (p_i / (rho_i * rho_i) + 0.5 * pi_ij) * v_dot_grad
+                    }
+                    EnergyEquation::Symmetric => 0.5 * coefficient * v_dot_grad,
+                };
                 out.density_rate += m_j * v_dot_grad;
-                out.signal_speed = out.signal_speed.max(signal_speed(c_i, c_j, v_dot_x / r.max(f64::MIN_POSITIVE)));
+                out.signal_speed = out.signal_speed.max(signal_speed(
+                    c_i,
+                    c_j,
+                    v_dot_x / r.max(f64::MIN_POSITIVE),
+                ));
                 if p.image(j).is_some_and(|im| im.is_wall) {
                     out.wall_force += force * p.mass[i];
                 }

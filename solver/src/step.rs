@@ -12,7 +12,7 @@ use crate::error::SolverError;
 use crate::kernel::{Kernel, KernelShape};
 use crate::neighbours::{find_neighbours, CellGrid, NeighbourList};
 use crate::particles::{ParticleInit, Particles};
-use crate::physics::{self, ArtificialViscosity, DensityMethod};
+use crate::physics::{self, ArtificialViscosity, DensityMethod, EnergyEquation};
 use crate::Vector;
 
 /// How each particle's smoothing length is set.
@@ -33,6 +33,7 @@ pub struct SimulationConfig {
     pub kernel: KernelShape,
     pub density: DensityMethod,
     pub viscosity: ArtificialViscosity,
+    pub energy: EnergyEquation,
     pub smoothing: SmoothingLength,
     /// Courant number C.
     pub cfl: f64,
@@ -46,6 +47,7 @@ impl Default for SimulationConfig {
             kernel: KernelShape::CubicSpline,
             density: DensityMethod::Summation,
             viscosity: ArtificialViscosity::default(),
+            energy: EnergyEquation::OwnPressure,
             smoothing: SmoothingLength::FollowDensity { eta: 1.2 },
             cfl: 0.3,
             min_time_step: 1e-15,
@@ -57,7 +59,11 @@ impl SimulationConfig {
     pub fn validate(&self) -> Result<(), SolverError> {
         let (lo, hi) = CFL_RANGE;
         if !(lo..=hi).contains(&self.cfl) {
-            return Err(SolverError::invalid("cfl", self.cfl, &format!("{lo} ≤ C ≤ {hi}")));
+            return Err(SolverError::invalid(
+                "cfl",
+                self.cfl,
+                &format!("{lo} ≤ C ≤ {hi}"),
+            ));
         }
         if let SmoothingLength::FollowDensity { eta } = self.smoothing {
             if !(0.5..=4.0).contains(&eta) {
@@ -65,7 +71,11 @@ impl SimulationConfig {
             }
         }
         if !(self.min_time_step >= 0.0) {
-            return Err(SolverError::invalid("min_time_step", self.min_time_step, "≥ 0"));
+            return Err(SolverError::invalid(
+                "min_time_step",
+                self.min_time_step,
+                "≥ 0",
+            ));
         }
         self.viscosity.validate()
     }
@@ -144,12 +154,20 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Advances to `t_end`, calling `progress(t)` after each step.
-    pub fn run_until(&mut self, t_end: f64, mut progress: impl FnMut(f64)) -> Result<(), SolverError> {
+    pub fn run_until(
+        &mut self,
+        t_end: f64,
+        mut progress: impl FnMut(f64),
+    ) -> Result<(), SolverError> {
         while self.time < t_end {
             let dt = self.stable_time_step()?;
             let remaining = t_end - self.time;
             // take the last step exactly to t_end; avoid leaving a sliver of a step behind
-            let dt = if dt >= remaining * (1.0 - 1e-9) { remaining } else { dt.min(0.5 * remaining).max(dt) };
+            let dt = if dt >= remaining * (1.0 - 1e-9) {
+                remaining
+            } else {
+                dt.min(0.5 * remaining).max(dt)
+            };
             self.step(dt)?;
             if self.time >= t_end - 1e-12 * t_end {
                 self.time = t_end;
@@ -234,7 +252,9 @@ impl<const D: usize> Simulation<D> {
         self.half.velocity.clear();
         self.half.velocity.extend_from_slice(&p.velocity[..n]);
         self.half.internal_energy.clear();
-        self.half.internal_energy.extend_from_slice(&p.internal_energy[..n]);
+        self.half
+            .internal_energy
+            .extend_from_slice(&p.internal_energy[..n]);
         self.half.density.clear();
         if !p.density_rate.is_empty() {
             self.half.density.extend_from_slice(&p.density[..n]);
@@ -257,10 +277,21 @@ impl<const D: usize> Simulation<D> {
     /// Smoothing lengths → images → neighbours → density → EOS → forces.
     fn evaluate_rates(&mut self) {
         self.update_smoothing_lengths();
-        let h_max = self.particles.smoothing_length.iter().cloned().fold(0.0, f64::max);
-        self.domain.make_images(&mut self.particles, self.kernel.support_radius(h_max));
+        let h_max = self
+            .particles
+            .smoothing_length
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max);
+        self.domain
+            .make_images(&mut self.particles, self.kernel.support_radius(h_max));
         let p = &mut self.particles;
-        self.neighbours = find_neighbours(&p.position, &p.smoothing_length, self.kernel.shape().support(), p.n_real());
+        self.neighbours = find_neighbours(
+            &p.position,
+            &p.smoothing_length,
+            self.kernel.shape().support(),
+            p.n_real(),
+        );
         if self.config.density == DensityMethod::Summation {
             physics::summation_density(p, &self.neighbours, &self.kernel);
         }
@@ -270,7 +301,13 @@ impl<const D: usize> Simulation<D> {
             p.sound_speed[i] = eos.sound_speed(p.density[i], p.internal_energy[i]);
         }
         p.refresh_image_state();
-        self.wall_force = physics::compute_rates(p, &self.neighbours, &self.kernel, &self.config.viscosity);
+        self.wall_force = physics::compute_rates(
+            p,
+            &self.neighbours,
+            &self.kernel,
+            &self.config.viscosity,
+            self.config.energy,
+        );
     }
 
     fn update_smoothing_lengths(&mut self) {
@@ -319,26 +356,59 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
-fn validate_particles<const D: usize>(init: &[ParticleInit<D>], n_materials: usize) -> Result<(), SolverError> {
+fn validate_particles<const D: usize>(
+    init: &[ParticleInit<D>],
+    n_materials: usize,
+) -> Result<(), SolverError> {
     if init.is_empty() {
-        return Err(SolverError::invalid("particles", 0, "at least one particle"));
+        return Err(SolverError::invalid(
+            "particles",
+            0,
+            "at least one particle",
+        ));
     }
     for (i, p) in init.iter().enumerate() {
         let field = |name: &str| format!("particle {i} {name}");
         if !(p.mass > 0.0 && p.mass.is_finite()) {
-            return Err(SolverError::invalid(&field("mass"), p.mass, "finite and > 0"));
+            return Err(SolverError::invalid(
+                &field("mass"),
+                p.mass,
+                "finite and > 0",
+            ));
         }
         if !(p.smoothing_length > 0.0 && p.smoothing_length.is_finite()) {
-            return Err(SolverError::invalid(&field("smoothing length"), p.smoothing_length, "finite and > 0"));
+            return Err(SolverError::invalid(
+                &field("smoothing length"),
+                p.smoothing_length,
+                "finite and > 0",
+            ));
         }
         if !(p.density > 0.0 && p.density.is_finite()) {
-            return Err(SolverError::invalid(&field("density"), p.density, "finite and > 0"));
+            return Err(SolverError::invalid(
+                &field("density"),
+                p.density,
+                "finite and > 0",
+            ));
         }
-        if !p.internal_energy.is_finite() || !p.position.iter().chain(p.velocity.iter()).all(|x| x.is_finite()) {
-            return Err(SolverError::invalid(&field("state"), "non-finite", "finite numbers"));
+        if !p.internal_energy.is_finite()
+            || !p
+                .position
+                .iter()
+                .chain(p.velocity.iter())
+                .all(|x| x.is_finite())
+        {
+            return Err(SolverError::invalid(
+                &field("state"),
+                "non-finite",
+                "finite numbers",
+            ));
         }
         if p.material as usize >= n_materials {
-            return Err(SolverError::invalid(&field("material"), p.material, &format!("< {n_materials}")));
+            return Err(SolverError::invalid(
+                &field("material"),
+                p.material,
+                &format!("< {n_materials}"),
+            ));
         }
     }
     Ok(())

@@ -1,0 +1,170 @@
+//! Problem parameters: declared per problem with a default per level, overridden by
+//! `--set KEY=VALUE`, parsed with a named error for every bad value.
+
+use crate::{Level, VerifyError};
+use std::collections::BTreeMap;
+
+/// One declared parameter.
+#[derive(Clone, Debug)]
+pub struct ParamSpec {
+    pub key: &'static str,
+    pub quick: String,
+    pub full: String,
+    pub help: &'static str,
+}
+
+impl ParamSpec {
+    /// A parameter with one default for both levels.
+    pub fn new(key: &'static str, default: impl ToString, help: &'static str) -> Self {
+        Self::per_level(key, default.to_string(), default.to_string(), help)
+    }
+
+    pub fn per_level(
+        key: &'static str,
+        quick: impl ToString,
+        full: impl ToString,
+        help: &'static str,
+    ) -> Self {
+        Self {
+            key,
+            quick: quick.to_string(),
+            full: full.to_string(),
+            help,
+        }
+    }
+}
+
+/// The parameter values of one problem run: defaults for the level plus overrides.
+#[derive(Clone, Debug)]
+pub struct Params {
+    problem: String,
+    values: BTreeMap<&'static str, String>,
+    overridden: BTreeMap<String, String>,
+}
+
+impl Params {
+    pub fn new(
+        problem: &str,
+        specs: &[ParamSpec],
+        level: Level,
+        overrides: &[(String, String)],
+    ) -> Result<Self, VerifyError> {
+        let mut values: BTreeMap<&'static str, String> = specs
+            .iter()
+            .map(|s| {
+                (
+                    s.key,
+                    if level == Level::Quick {
+                        &s.quick
+                    } else {
+                        &s.full
+                    }
+                    .clone(),
+                )
+            })
+            .collect();
+        let mut overridden = BTreeMap::new();
+        for (key, value) in overrides {
+            let Some(spec) = specs.iter().find(|s| s.key == key) else {
+                return Err(VerifyError::UnknownParameter {
+                    problem: problem.to_string(),
+                    key: key.clone(),
+                    available: specs.iter().map(|s| s.key).collect::<Vec<_>>().join(", "),
+                });
+            };
+            values.insert(spec.key, value.clone());
+            overridden.insert(key.clone(), value.clone());
+        }
+        Ok(Self {
+            problem: problem.to_string(),
+            values,
+            overridden,
+        })
+    }
+
+    /// All values, for the record.
+    pub fn values(&self) -> BTreeMap<String, String> {
+        self.values
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect()
+    }
+
+    /// The `--set` overrides, for the record.
+    pub fn overrides(&self) -> BTreeMap<String, String> {
+        self.overridden.clone()
+    }
+
+    fn raw(&self, key: &str) -> &str {
+        self.values
+            .get(key)
+            .unwrap_or_else(|| panic!("problem {} reads undeclared parameter {key}", self.problem))
+    }
+
+    /// A number in [lo, hi].
+    pub fn number(&self, key: &str, lo: f64, hi: f64) -> Result<f64, VerifyError> {
+        let raw = self.raw(key);
+        match raw.trim().parse::<f64>() {
+            Ok(x) if x >= lo && x <= hi => Ok(x),
+            _ => Err(VerifyError::bad_value(
+                key,
+                raw,
+                &format!("a number in [{lo}, {hi}]"),
+            )),
+        }
+    }
+
+    /// A comma-separated list of integers in [lo, hi].
+    pub fn integers(&self, key: &str, lo: usize, hi: usize) -> Result<Vec<usize>, VerifyError> {
+        let raw = self.raw(key);
+        let bad = || {
+            VerifyError::bad_value(
+                key,
+                raw,
+                &format!("comma-separated integers in [{lo}, {hi}]"),
+            )
+        };
+        let list: Vec<usize> = raw
+            .split(',')
+            .map(|s| s.trim().parse::<usize>().map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        if list.is_empty() || list.iter().any(|&n| n < lo || n > hi) {
+            return Err(bad());
+        }
+        Ok(list)
+    }
+
+    /// One of the given words.
+    pub fn choice<T>(&self, key: &str, options: &[(&str, T)]) -> Result<T, VerifyError>
+    where
+        T: Copy,
+    {
+        let raw = self.raw(key).trim();
+        options
+            .iter()
+            .find(|(name, _)| *name == raw)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| {
+                VerifyError::bad_value(
+                    key,
+                    raw,
+                    &format!(
+                        "one of {}",
+                        options
+                            .iter()
+                            .map(|(n, _)| *n)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                )
+            })
+    }
+}
+
+/// Parses `KEY=VALUE`.
+pub fn parse_assignment(text: &str) -> Result<(String, String), VerifyError> {
+    match text.split_once('=') {
+        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
+        _ => Err(VerifyError::bad_value("--set", text, "KEY=VALUE")),
+    }
+}

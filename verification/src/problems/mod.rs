@@ -1,0 +1,64 @@
+//! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
+//! exact answer, checks with justified limits.
+
+mod kernel_interpolation;
+mod shock_tube;
+
+use crate::params::{ParamSpec, Params};
+use crate::record::ProblemOutput;
+use crate::{Level, VerifyError};
+
+/// What the suite knows about a problem before running it.
+#[derive(Clone, Debug)]
+pub struct ProblemInfo {
+    pub name: &'static str,
+    pub summary: &'static str,
+    pub params: Vec<ParamSpec>,
+}
+
+/// Every problem, in the order `blastsph verify` runs them.
+pub fn all() -> Vec<ProblemInfo> {
+    let mut list = vec![kernel_interpolation::info()];
+    list.extend(shock_tube::infos());
+    list
+}
+
+pub fn names() -> Vec<&'static str> {
+    all().iter().map(|p| p.name).collect()
+}
+
+/// Looks a problem up by name, with the list of names in the error.
+pub fn find(name: &str) -> Result<ProblemInfo, VerifyError> {
+    all()
+        .into_iter()
+        .find(|p| p.name == name)
+        .ok_or_else(|| VerifyError::UnknownProblem {
+            name: name.to_string(),
+            available: names().join(", "),
+        })
+}
+
+/// Runs one problem at `level` with `--set` overrides; `progress` receives the fraction done.
+pub fn run(
+    name: &str,
+    level: Level,
+    overrides: &[(String, String)],
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<ProblemOutput, VerifyError> {
+    let info = find(name)?;
+    let params = Params::new(name, &info.params, level, overrides)?;
+    let start = std::time::Instant::now();
+    let mut output = if name == kernel_interpolation::NAME {
+        kernel_interpolation::run(&params)?
+    } else {
+        shock_tube::run(name, &params, progress)?
+    };
+    let record = &mut output.record;
+    record.problem = name.to_string();
+    record.level = level;
+    record.parameters = params.values();
+    record.overrides = params.overrides();
+    record.wall_s = start.elapsed().as_secs_f64();
+    record.settle();
+    Ok(output)
+}

@@ -1,0 +1,582 @@
+//! `sod` and `toro-1` … `toro-5`: one-dimensional Riemann problems for the ideal gas (Toro
+//! 2009, Table 4.1; `sod` is Test 1) with equal-mass particles, against the exact solution of
+//! [`crate::riemann`].
+//!
+//! Set-up: interface at x0 in [0, 1], left state with `n_left` particles at spacing x0/n_left,
+//! right state at the spacing that gives the same particle mass. The ends are walls (mirror
+//! images) at 0 and 1 where the gas is at rest; where it moves, the tube is extended beyond
+//! [0, 1] far enough that the wave the wall launches cannot reach [0, 1] by t_end.
+//! Errors are L1 norms over [0, 1].
+
+use crate::norms::{l1_error, observed_order};
+use crate::params::{ParamSpec, Params};
+use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::riemann::{self, GasState, RiemannSolution};
+use crate::svg::{Figure, Panel, Series, Style};
+use crate::{Level, VerifyError};
+use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::{
+    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, IdealGas, KernelShape,
+    Material, Simulation, SimulationConfig, SmoothingLength, Vector,
+};
+use std::collections::BTreeMap;
+
+const INITIAL_STATES: &str =
+    include_str!("../../../reference_data/riemann_toro_initial_states.csv");
+const FIELDS: [&str; 4] = ["rho", "u", "p", "e"];
+
+/// One row of Toro's Table 4.1.
+#[derive(Clone, Copy, Debug)]
+struct Case {
+    test: usize,
+    left: GasState,
+    right: GasState,
+    t_out: f64,
+    x0: f64,
+}
+
+fn cases() -> Vec<Case> {
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(INITIAL_STATES.as_bytes());
+    reader
+        .records()
+        .map(|row| {
+            let row = row.expect("reference_data/riemann_toro_initial_states.csv is well formed");
+            let v: Vec<f64> = row
+                .iter()
+                .map(|s| s.parse().expect("numbers in the Toro table"))
+                .collect();
+            Case {
+                test: v[0] as usize,
+                left: GasState::new(v[1], v[2], v[3]),
+                right: GasState::new(v[4], v[5], v[6]),
+                t_out: v[7],
+                x0: v[8],
+            }
+        })
+        .collect()
+}
+
+fn case_of(name: &str) -> Case {
+    let test = if name == "sod" {
+        1
+    } else {
+        name.trim_start_matches("toro-").parse().expect("toro-N")
+    };
+    cases()
+        .into_iter()
+        .find(|c| c.test == test)
+        .expect("test listed in the table")
+}
+
+pub fn infos() -> Vec<super::ProblemInfo> {
+    let summaries = [
+        "Sod: left rarefaction, contact, right shock",
+        "Toro 2: two strong rarefactions, near-vacuum centre",
+        "Toro 3: left half of Woodward-Colella, pressure ratio 1e5",
+        "Toro 4: right half of Woodward-Colella",
+        "Toro 5: collision of two strong shocks",
+    ];
+    let mut list = vec![info(
+        "sod",
+        "Sod (Toro Test 1) with conservation and convergence checks",
+        &cases()[0],
+    )];
+    for case in cases() {
+        let name: &'static str = ["toro-1", "toro-2", "toro-3", "toro-4", "toro-5"][case.test - 1];
+        list.push(info(name, summaries[case.test - 1], &case));
+    }
+    list
+}
+
+fn info(name: &'static str, summary: &'static str, case: &Case) -> super::ProblemInfo {
+    super::ProblemInfo {
+        name,
+        summary,
+        params: vec![
+            ParamSpec::per_level(
+                "n_left",
+                "200,400",
+                "100,200,400,800",
+                "particles in the left state, one run each",
+            ),
+            ParamSpec::new("t_end", case.t_out, "output time (s)"),
+            ParamSpec::new("gamma", 1.4, "ratio of specific heats"),
+            ParamSpec::new("cfl", 0.3, "Courant number C"),
+            ParamSpec::new("density", "summation", "summation or continuity"),
+            ParamSpec::new(
+                "energy",
+                "own-pressure",
+                "energy equation: own-pressure or symmetric",
+            ),
+            ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
+            ParamSpec::new("beta", 2.0, "artificial viscosity β"),
+            ParamSpec::new("eta", 1.2, "smoothing length h = η·m/ρ"),
+            ParamSpec::new("kernel", "cubic-spline", "kernel shape"),
+        ],
+    }
+}
+
+/// Everything a single run needs besides its resolution.
+#[derive(Clone, Copy, Debug)]
+struct Settings {
+    case: Case,
+    gamma: f64,
+    t_end: f64,
+    config: SimulationConfig,
+}
+
+fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
+    let mut case = case_of(name);
+    let gamma = params.number("gamma", 1.0 + 1e-9, 10.0)?;
+    let t_end = params.number("t_end", 1e-9, 10.0)?;
+    let shapes: Vec<(&str, KernelShape)> =
+        KernelShape::ALL.iter().map(|s| (s.name(), *s)).collect();
+    let config = SimulationConfig {
+        kernel: params.choice("kernel", &shapes)?,
+        density: params.choice(
+            "density",
+            &[
+                ("summation", DensityMethod::Summation),
+                ("continuity", DensityMethod::Continuity),
+            ],
+        )?,
+        viscosity: ArtificialViscosity {
+            alpha: params.number("alpha", 0.0, 10.0)?,
+            beta: params.number("beta", 0.0, 10.0)?,
+            ..ArtificialViscosity::default()
+        },
+        energy: params.choice(
+            "energy",
+            &[
+                ("own-pressure", EnergyEquation::OwnPressure),
+                ("symmetric", EnergyEquation::Symmetric),
+            ],
+        )?,
+        smoothing: SmoothingLength::FollowDensity {
+            eta: params.number("eta", 0.5, 4.0)?,
+        },
+        cfl: params.number(
+            "cfl",
+            blastsph_solver::step::CFL_RANGE.0,
+            blastsph_solver::step::CFL_RANGE.1,
+        )?,
+        // a step 1e-9 of the run's length means the run would need 1e9 steps: collapsed
+        min_time_step: 1e-9 * t_end,
+    };
+    case.t_out = t_end;
+    Ok(Settings {
+        case,
+        gamma,
+        t_end,
+        config,
+    })
+}
+
+/// Final particle state inside [0, 1] with the exact values beside it.
+struct Profile {
+    x: Vec<f64>,
+    volume: Vec<f64>,
+    numerical: [Vec<f64>; 4],
+    exact: [Vec<f64>; 4],
+}
+
+struct TubeRun {
+    run: Run,
+    profile: Option<Profile>,
+}
+
+/// Initial particles and domain for `n_left` particles in the left state.
+fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
+    let Case {
+        left,
+        right,
+        x0,
+        t_out,
+        ..
+    } = s.case;
+    let dx_left = x0 / n_left as f64;
+    let mass = left.rho * dx_left;
+    let dx_right = mass / right.rho;
+    // Both ends are walls. Where the gas at an end moves, the wall launches a wave: the Riemann
+    // problem of the end state against its mirror image. The tube is extended so that this
+    // wave cannot reach [0, 1] by t_end (a margin of ten spacings keeps kernels clear of it).
+    let margin = 10.0 * dx_left.max(dx_right);
+    let mirror = |g: &GasState| GasState::new(g.rho, -g.u, g.p);
+    let extension = |inward_speed: f64| {
+        if inward_speed > 0.0 {
+            inward_speed * t_out + margin
+        } else {
+            0.0
+        }
+    };
+    let left_wave = riemann::solve(mirror(&left), left, s.gamma).map_or(0.0, |w| w.speed_range().1);
+    let right_wave =
+        riemann::solve(right, mirror(&right), s.gamma).map_or(0.0, |w| -w.speed_range().0);
+    let x_lo = if left.u == 0.0 {
+        0.0
+    } else {
+        -extension(left_wave)
+    };
+    let x_hi = if right.u == 0.0 {
+        1.0
+    } else {
+        1.0 + extension(right_wave)
+    };
+    let eos = IdealGas::new(s.gamma).expect("gamma validated");
+    let eta = match s.config.smoothing {
+        SmoothingLength::FollowDensity { eta } => eta,
+        SmoothingLength::Fixed => 1.2,
+    };
+    let particle = |x: f64, state: &GasState, dx: f64| ParticleInit {
+        position: Vector::<1>::new(x),
+        velocity: Vector::<1>::new(state.u),
+        mass,
+        smoothing_length: eta * dx,
+        density: state.rho,
+        internal_energy: eos.internal_energy(state.rho, state.p),
+        material: 0,
+    };
+    let n_lo = ((x0 - x_lo) / dx_left).round() as usize;
+    let n_hi = ((x_hi - x0) / dx_right).round() as usize;
+    let mut init: Vec<ParticleInit<1>> = (0..n_lo)
+        .rev()
+        .map(|k| particle(x0 - (k as f64 + 0.5) * dx_left, &left, dx_left))
+        .collect();
+    init.extend((0..n_hi).map(|k| particle(x0 + (k as f64 + 0.5) * dx_right, &right, dx_right)));
+    (
+        init,
+        Domain::new(
+            Vector::<1>::new(x_lo),
+            Vector::<1>::new(x_hi),
+            [Boundary::Wall],
+        ),
+    )
+}
+
+fn run_tube(
+    s: &Settings,
+    n_left: usize,
+    exact: &RiemannSolution,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<TubeRun, VerifyError> {
+    let (init, domain) = setup(s, n_left);
+    let gas = Material::new("ideal-gas", IdealGas::new(s.gamma)?);
+    let start = std::time::Instant::now();
+    let mut sim = Simulation::<1>::new(&init, vec![gas], domain, s.config)?;
+    let (mass0, momentum0, energy0) = {
+        let p = sim.particles();
+        (p.total_mass(), p.total_momentum()[0], p.total_energy())
+    };
+    let momentum_scale: f64 = {
+        let p = sim.particles();
+        (0..p.n_real())
+            .map(|i| p.mass[i] * (p.velocity[i].norm() + p.sound_speed[i]))
+            .sum()
+    };
+    let outcome = sim.run_until(s.t_end, |t| progress(t / s.t_end));
+    let wall_s = start.elapsed().as_secs_f64();
+    let p = sim.particles();
+    let n = p.n_real();
+    let mut metrics = BTreeMap::new();
+    metrics.insert(
+        "mass_relative_change".into(),
+        (p.total_mass() - mass0).abs() / mass0,
+    );
+    let momentum_residual =
+        (p.total_momentum()[0] - momentum0 - sim.wall_impulse()[0]).abs() / momentum_scale;
+    metrics.insert("momentum_balance_residual".into(), momentum_residual);
+    // Round-off bound: each step sums n pair-force contributions per particle, each with
+    // relative error ≤ ε, and the steps accumulate: steps · n · ε relative to Σ m (|v| + c).
+    metrics.insert(
+        "momentum_round_off_bound".into(),
+        sim.steps() as f64 * n as f64 * f64::EPSILON,
+    );
+    metrics.insert(
+        "energy_relative_error".into(),
+        (p.total_energy() - energy0).abs() / energy0,
+    );
+    metrics.insert(
+        "min_density".into(),
+        p.density[..n].iter().cloned().fold(f64::INFINITY, f64::min),
+    );
+    let eos = IdealGas::new(s.gamma)?;
+    metrics.insert(
+        "min_pressure".into(),
+        (0..n)
+            .map(|i| {
+                blastsph_solver::EquationOfState::pressure(&eos, p.density[i], p.internal_energy[i])
+            })
+            .fold(f64::INFINITY, f64::min),
+    );
+    metrics.insert("wall_impulse".into(), sim.wall_impulse()[0]);
+    let mut run = Run {
+        label: format!("n_left = {n_left}"),
+        n_particles: n,
+        steps: sim.steps(),
+        wall_s,
+        spacing: s.case.x0 / n_left as f64,
+        errors: FIELDS
+            .iter()
+            .map(|f| (format!("l1_{f}"), f64::NAN))
+            .collect(),
+        metrics,
+        failure: None,
+    };
+    if let Err(e) = outcome {
+        run.failure = Some(e.to_string());
+        return Ok(TubeRun { run, profile: None });
+    }
+    let mut order: Vec<usize> = (0..n)
+        .filter(|&i| (0.0..=1.0).contains(&p.position[i][0]))
+        .collect();
+    order.sort_by(|&a, &b| p.position[a][0].total_cmp(&p.position[b][0]));
+    let x: Vec<f64> = order.iter().map(|&i| p.position[i][0]).collect();
+    let exact_states: Vec<GasState> = x
+        .iter()
+        .map(|&x| exact.sample((x - s.case.x0) / s.t_end))
+        .collect();
+    let profile = Profile {
+        volume: order.iter().map(|&i| p.mass[i] / p.density[i]).collect(),
+        numerical: [
+            order.iter().map(|&i| p.density[i]).collect(),
+            order.iter().map(|&i| p.velocity[i][0]).collect(),
+            order
+                .iter()
+                .map(|&i| {
+                    blastsph_solver::EquationOfState::pressure(
+                        &eos,
+                        p.density[i],
+                        p.internal_energy[i],
+                    )
+                })
+                .collect(),
+            order.iter().map(|&i| p.internal_energy[i]).collect(),
+        ],
+        exact: [
+            exact_states.iter().map(|g| g.rho).collect(),
+            exact_states.iter().map(|g| g.u).collect(),
+            exact_states.iter().map(|g| g.p).collect(),
+            exact_states
+                .iter()
+                .map(|g| g.internal_energy(s.gamma))
+                .collect(),
+        ],
+        x,
+    };
+    for (k, f) in FIELDS.iter().enumerate() {
+        run.errors.insert(
+            format!("l1_{f}"),
+            l1_error(&profile.numerical[k], &profile.exact[k], &profile.volume),
+        );
+    }
+    Ok(TubeRun {
+        run,
+        profile: Some(profile),
+    })
+}
+
+pub fn run(
+    name: &str,
+    params: &Params,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<ProblemOutput, VerifyError> {
+    let s = settings(name, params)?;
+    let resolutions = params.integers("n_left", 10, 100_000)?;
+    let exact = riemann::solve(s.case.left, s.case.right, s.gamma)?;
+    let is_sod = name == "sod";
+    // the energy-versus-time-step run repeats the finest resolution at C/2
+    let total_runs = resolutions.len() + usize::from(is_sod);
+    let mut tubes = Vec::new();
+    for (k, &n_left) in resolutions.iter().enumerate() {
+        let part = |f: f64| progress((k as f64 + f) / total_runs as f64);
+        tubes.push(run_tube(&s, n_left, &exact, &part)?);
+    }
+    let finest = resolutions
+        .iter()
+        .enumerate()
+        .max_by_key(|(_, n)| **n)
+        .map(|(k, _)| k)
+        .unwrap();
+    let mut order = BTreeMap::new();
+    let spacing: Vec<f64> = tubes.iter().map(|t| t.run.spacing).collect();
+    for f in FIELDS {
+        let errors: Vec<f64> = tubes
+            .iter()
+            .map(|t| t.run.errors[&format!("l1_{f}")])
+            .collect();
+        if let Some(p) = observed_order(&spacing, &errors) {
+            order.insert(format!("l1_{f}"), p);
+        }
+    }
+    let mut checks = Vec::new();
+    let completed = tubes.iter().filter(|t| t.run.failure.is_none()).count();
+    checks.push(Check::at_least(
+        "runs_completed_without_blow_up",
+        completed as f64,
+        tubes.len() as f64,
+    ));
+    if tubes.len() >= 2 {
+        // errors fall with resolution: a positive observed order of L1(ρ)
+        let min_order = if is_sod { 0.5 } else { 0.0 };
+        checks.push(Check::at_least(
+            "observed_order_l1_rho",
+            order.get("l1_rho").copied().unwrap_or(f64::NAN),
+            min_order,
+        ));
+    }
+    let mut runs: Vec<Run> = tubes.iter().map(|t| t.run.clone()).collect();
+    if is_sod {
+        let fine = &tubes[finest].run;
+        let n_fine = resolutions[finest];
+        // Limit from the issue: 6e-3 at 400 left particles; at a finer resolution the error is
+        // smaller still, so the same limit holds for the finest run.
+        checks.push(Check::at_most(
+            format!("l1_rho_at_n_left_{n_fine}"),
+            fine.errors["l1_rho"],
+            6e-3,
+        ));
+        for t in &tubes {
+            let m = &t.run.metrics;
+            let label = t.run.label.replace(" = ", "_");
+            // masses never change; the sum is re-ordered by the locality sort: n·ε bounds that
+            checks.push(Check::at_most(
+                format!("mass_relative_change_{label}"),
+                m["mass_relative_change"],
+                t.run.n_particles as f64 * f64::EPSILON,
+            ));
+            checks.push(Check::at_most(
+                format!("momentum_balance_residual_{label}"),
+                m["momentum_balance_residual"],
+                m["momentum_round_off_bound"],
+            ));
+            checks.push(Check::at_least(
+                format!("min_density_{label}"),
+                m["min_density"],
+                f64::MIN_POSITIVE,
+            ));
+            checks.push(Check::at_least(
+                format!("min_pressure_{label}"),
+                m["min_pressure"],
+                0.0,
+            ));
+        }
+        let energy = fine.metrics["energy_relative_error"];
+        checks.push(Check::at_most(
+            format!("energy_relative_error_n_left_{n_fine}"),
+            energy,
+            1e-4,
+        ));
+        let halved = Settings {
+            config: SimulationConfig {
+                cfl: 0.5 * s.config.cfl,
+                ..s.config
+            },
+            ..s
+        };
+        let part = |f: f64| progress((resolutions.len() as f64 + f) / total_runs as f64);
+        let mut half_run = run_tube(&halved, n_fine, &exact, &part)?.run;
+        half_run.label = format!("n_left = {n_fine}, C = {}", halved.config.cfl);
+        // KDK leapfrog: the energy error of the viscous scheme falls as Δt shrinks
+        checks.push(Check::at_most(
+            "energy_error_at_half_cfl_over_energy_error",
+            half_run.metrics["energy_relative_error"] / energy,
+            1.0,
+        ));
+        runs.push(half_run);
+    }
+    let profile_source = tubes.iter().rev().find_map(|t| t.profile.as_ref());
+    let (profile, figure) = profile_outputs(name, profile_source, &exact, &s);
+    Ok(ProblemOutput {
+        record: Record {
+            problem: name.into(),
+            level: Level::Quick,
+            parameters: BTreeMap::new(),
+            overrides: BTreeMap::new(),
+            runs,
+            order,
+            checks,
+            pass: false,
+            wall_s: 0.0,
+        },
+        profile,
+        figure,
+    })
+}
+
+fn profile_outputs(
+    name: &str,
+    profile: Option<&Profile>,
+    exact: &RiemannSolution,
+    s: &Settings,
+) -> (Table, Figure) {
+    let mut table = Table::new(&[
+        "x",
+        "rho",
+        "rho_exact",
+        "u",
+        "u_exact",
+        "p",
+        "p_exact",
+        "e",
+        "e_exact",
+    ]);
+    let mut figure = Figure {
+        title: format!("{name} at t = {} ({})", s.t_end, exact.describe()),
+        panels: Vec::new(),
+    };
+    let fine: Vec<f64> = (0..=1000).map(|k| k as f64 / 1000.0).collect();
+    let labels = [
+        "density",
+        "velocity",
+        "pressure",
+        "specific internal energy",
+    ];
+    for (k, label) in labels.iter().enumerate() {
+        let exact_curve: Vec<(f64, f64)> = fine
+            .iter()
+            .map(|&x| {
+                let g = exact.sample((x - s.case.x0) / s.t_end);
+                (x, [g.rho, g.u, g.p, g.internal_energy(s.gamma)][k])
+            })
+            .collect();
+        let mut series = vec![Series {
+            label: "exact".into(),
+            points: exact_curve,
+            style: Style::Line,
+        }];
+        if let Some(p) = profile {
+            series.insert(
+                0,
+                Series {
+                    label: "SPH".into(),
+                    points: p
+                        .x
+                        .iter()
+                        .copied()
+                        .zip(p.numerical[k].iter().copied())
+                        .collect(),
+                    style: Style::Markers,
+                },
+            );
+        }
+        figure.panels.push(Panel {
+            title: label.to_string(),
+            x_label: "x".into(),
+            y_label: FIELDS[k].into(),
+            series,
+        });
+    }
+    if let Some(p) = profile {
+        for i in 0..p.x.len() {
+            let mut row = vec![p.x[i]];
+            for k in 0..4 {
+                row.push(p.numerical[k][i]);
+                row.push(p.exact[k][i]);
+            }
+            table.rows.push(row);
+        }
+    }
+    (table, figure)
+}

@@ -1,0 +1,111 @@
+//! What a problem run returns: the record (written as JSON), the final profiles (CSV) and a
+//! figure (SVG).
+
+use crate::svg::Figure;
+use crate::Level;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// One check: a value against a limit.
+#[derive(Clone, Debug, Serialize)]
+pub struct Check {
+    pub name: String,
+    pub value: f64,
+    pub limit: f64,
+    /// "<=" or ">=": how value must relate to limit.
+    pub relation: &'static str,
+    pub pass: bool,
+}
+
+impl Check {
+    /// Passes when value ≤ limit (a NaN never passes).
+    pub fn at_most(name: impl Into<String>, value: f64, limit: f64) -> Self {
+        Self {
+            name: name.into(),
+            value,
+            limit,
+            relation: "<=",
+            pass: value <= limit,
+        }
+    }
+
+    /// Passes when value ≥ limit (a NaN never passes).
+    pub fn at_least(name: impl Into<String>, value: f64, limit: f64) -> Self {
+        Self {
+            name: name.into(),
+            value,
+            limit,
+            relation: ">=",
+            pass: value >= limit,
+        }
+    }
+}
+
+/// One resolution (or variant) of a problem.
+#[derive(Clone, Debug, Serialize)]
+pub struct Run {
+    pub label: String,
+    pub n_particles: usize,
+    pub steps: u64,
+    pub wall_s: f64,
+    /// Characteristic particle spacing, the abscissa of the convergence fit.
+    pub spacing: f64,
+    pub errors: BTreeMap<String, f64>,
+    /// Conservation and positivity figures.
+    pub metrics: BTreeMap<String, f64>,
+    /// The solver's diagnosis if the run stopped early.
+    pub failure: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Record {
+    pub problem: String,
+    pub level: Level,
+    pub parameters: BTreeMap<String, String>,
+    pub overrides: BTreeMap<String, String>,
+    pub runs: Vec<Run>,
+    pub order: BTreeMap<String, f64>,
+    pub checks: Vec<Check>,
+    pub pass: bool,
+    pub wall_s: f64,
+}
+
+impl Record {
+    /// Sets `pass` from the checks (a record without checks does not pass).
+    pub fn settle(&mut self) {
+        self.pass = !self.checks.is_empty() && self.checks.iter().all(|c| c.pass);
+    }
+
+    pub fn check(&self, name: &str) -> Option<&Check> {
+        self.checks.iter().find(|c| c.name == name)
+    }
+}
+
+/// A table of numbers with named columns.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Table {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    pub fn new(columns: &[&str]) -> Self {
+        Self {
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            rows: Vec::new(),
+        }
+    }
+
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let k = self.columns.iter().position(|c| c == name)?;
+        Some(self.rows.iter().map(|r| r[k]).collect())
+    }
+}
+
+/// Everything a problem run produces.
+#[derive(Clone, Debug)]
+pub struct ProblemOutput {
+    pub record: Record,
+    pub profile: Table,
+    pub figure: Figure,
+}
