@@ -1,0 +1,174 @@
+//! The command line: outputs, exit codes and bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn blastsph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A fresh empty folder under the target directory (no temp-dir crate needed).
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+#[test]
+fn verify_writes_json_csv_and_svg_with_the_promised_fields() {
+    let dir = scratch("verify-kernel");
+    let out = blastsph(&[
+        "verify",
+        "kernel-interpolation",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("kernel-interpolation") && stdout.contains("PASS"));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("kernel-interpolation.json")).unwrap())
+            .unwrap();
+    for field in [
+        "problem",
+        "level",
+        "runs",
+        "order",
+        "checks",
+        "pass",
+        "parameters",
+        "wall_s",
+    ] {
+        assert!(json.get(field).is_some(), "missing {field}");
+    }
+    let run = &json["runs"][0];
+    for field in ["n_particles", "steps", "wall_s", "errors"] {
+        assert!(run.get(field).is_some(), "run misses {field}");
+    }
+    for check in json["checks"].as_array().unwrap() {
+        for field in ["name", "value", "limit", "pass"] {
+            assert!(check.get(field).is_some(), "check misses {field}");
+        }
+    }
+    let csv = std::fs::read_to_string(dir.join("kernel-interpolation.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 21, "header and 20 evaluation points");
+    let svg = std::fs::read_to_string(dir.join("kernel-interpolation.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    // nothing half-written is left behind
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn set_overrides_are_recorded() {
+    let dir = scratch("verify-set");
+    let out = blastsph(&[
+        "verify",
+        "toro-1",
+        "--set",
+        "n_left=60",
+        "--set",
+        "t_end=0.1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.code().is_some_and(|c| c == 0 || c == 1),
+        "{}",
+        stderr(&out)
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("toro-1.json")).unwrap()).unwrap();
+    assert_eq!(json["overrides"]["n_left"], "60");
+    assert_eq!(json["parameters"]["t_end"], "0.1");
+    assert_eq!(json["runs"].as_array().unwrap().len(), 1);
+}
+
+#[test]
+fn unknown_problem_is_exit_2_and_lists_the_problems() {
+    let dir = scratch("verify-unknown");
+    let out = blastsph(&["verify", "sedov-9d", "--out", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("sedov-9d") && err.contains("sod") && err.contains("kernel-interpolation"),
+        "{err}"
+    );
+    assert!(!dir.exists(), "nothing is written for bad input");
+}
+
+#[test]
+fn unknown_parameter_is_exit_2_and_lists_the_keys() {
+    let out = blastsph(&["verify", "sod", "--set", "n_rigth=10"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("n_rigth") && err.contains("n_left") && err.contains("t_end"),
+        "{err}"
+    );
+}
+
+#[test]
+fn non_physical_parameters_are_exit_2_with_the_range() {
+    for (set, field) in [
+        ("gamma=1.0", "gamma"),
+        ("cfl=3", "cfl"),
+        ("n_left=-5", "n_left"),
+        ("t_end=abc", "t_end"),
+        ("density=magic", "density"),
+    ] {
+        let out = blastsph(&["verify", "sod", "--set", set]);
+        assert_eq!(out.status.code(), Some(2), "{set}");
+        let err = stderr(&out);
+        assert!(
+            err.contains(field) && err.contains("allowed"),
+            "{set}: {err}"
+        );
+    }
+}
+
+#[test]
+fn riemann_prints_the_sod_star_state_as_json() {
+    let out = blastsph(&[
+        "riemann",
+        "--left",
+        "1,0,1",
+        "--right",
+        "0.125,0,0.1",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // Toro (2009) Table 4.2: p* = 0.30313, u* = 0.92745
+    assert!((json["p_star"].as_f64().unwrap() - 0.30313).abs() < 1e-5);
+    assert!((json["u_star"].as_f64().unwrap() - 0.92745).abs() < 1e-5);
+    assert!(json["rho_star_l"].is_number() && json["rho_star_r"].is_number());
+    assert_eq!(json["waves"], "left rarefaction, contact, right shock");
+}
+
+#[test]
+fn riemann_rejects_non_physical_states_by_name() {
+    for (left, right, gamma, field) in [
+        ("0,0,1", "-1,0,1", "1.4", "right density"),
+        ("1,0,-1", "1,0,1", "1.4", "left pressure"),
+        ("1,0,1", "1,0,1", "1", "gamma"),
+        ("1,0", "1,0,1", "1.4", "--left"),
+    ] {
+        let out = blastsph(&[
+            "riemann", "--left", left, "--right", right, "--gamma", gamma,
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{left} {right} {gamma}");
+        assert!(stderr(&out).contains(field), "{}", stderr(&out));
+    }
+}

@@ -1,0 +1,89 @@
+//! The quick level of the canonical problems, exactly as `blastsph verify` runs them.
+
+use blastsph_verification::{problems, Level};
+
+fn run(name: &str, overrides: &[(&str, &str)]) -> blastsph_verification::record::ProblemOutput {
+    let overrides: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    problems::run(name, Level::Quick, &overrides, &|_| {}).expect("problem runs")
+}
+
+fn assert_all_checks_pass(output: &blastsph_verification::record::ProblemOutput) {
+    for check in &output.record.checks {
+        assert!(
+            check.pass,
+            "{}: {} = {:e}, must be {} {:e}",
+            output.record.problem, check.name, check.value, check.relation, check.limit
+        );
+    }
+    assert!(output.record.pass);
+}
+
+/// The seed thesis' example: Shepard exact for constants, CSPM exact for linear derivatives,
+/// standard SPH good inside and deficient at the ends (limits justified in the problem file).
+#[test]
+fn kernel_interpolation_passes_its_checks() {
+    let out = run("kernel-interpolation", &[]);
+    assert_all_checks_pass(&out);
+    let names: Vec<&str> = out.record.checks.iter().map(|c| c.name.as_str()).collect();
+    for expected in [
+        "shepard_max_deviation_all_h",
+        "cspm_derivative_max_error_h>=0.75",
+        "standard_h1.55_deviation_at_x4",
+        "standard_h1.55_deviation_at_x5",
+        "standard_h1.55_deficit_at_x1",
+        "standard_h1.55_deficit_at_x8",
+    ] {
+        assert!(names.contains(&expected), "missing check {expected}");
+    }
+    assert_eq!(out.record.runs.len(), 4, "one run per smoothing length");
+}
+
+/// Sod at quick level: L1(ρ) ≤ 6e-3 at 400 left particles, observed order ≥ 0.5, mass exact,
+/// momentum balanced to round-off, energy within 1e-4 and shrinking with Δt, ρ and p positive.
+#[test]
+fn sod_passes_its_quick_checks() {
+    let out = run("sod", &[]);
+    assert_all_checks_pass(&out);
+    let r = &out.record;
+    assert!(r
+        .check("l1_rho_at_n_left_400")
+        .is_some_and(|c| c.limit == 6e-3));
+    assert!(r
+        .check("observed_order_l1_rho")
+        .is_some_and(|c| c.limit == 0.5));
+    assert!(r
+        .check("energy_relative_error_n_left_400")
+        .is_some_and(|c| c.limit == 1e-4));
+    assert!(r
+        .check("energy_error_at_half_cfl_over_energy_error")
+        .is_some());
+    for label in ["n_left_200", "n_left_400"] {
+        for what in [
+            "mass_relative_change",
+            "momentum_balance_residual",
+            "min_density",
+            "min_pressure",
+        ] {
+            assert!(
+                r.check(&format!("{what}_{label}")).is_some(),
+                "missing {what}_{label}"
+            );
+        }
+    }
+    // the CSV profile compares with the exact solution at every particle in [0, 1]
+    let rho = out.profile.column("rho").unwrap();
+    let exact = out.profile.column("rho_exact").unwrap();
+    assert_eq!(rho.len(), exact.len());
+    assert!(rho.len() > 400);
+}
+
+/// Sod is Test 1 of Toro's table: both names run the same physics.
+#[test]
+fn sod_and_toro_1_agree() {
+    let sod = run("sod", &[("n_left", "100")]);
+    let toro = run("toro-1", &[("n_left", "100")]);
+    assert_eq!(sod.profile, toro.profile);
+}
