@@ -1,1 +1,70 @@
-fn main() {}
+//! `cargo bench`: kernel evaluation, neighbour search (10⁴ and 10⁵ particles, 2D and 3D,
+//! jittered lattice, h = 1.2 Δx) and one full SPH step for 10⁵ particles in 3D. Throughput is
+//! reported in elements per second: kernel evaluations, particles searched, particle updates.
+
+use blastsph_benchmarks::{gas_cube, jittered_lattice};
+use blastsph_solver::neighbours::find_neighbours;
+use blastsph_solver::{Kernel, KernelShape};
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use std::time::Duration;
+
+fn kernels(c: &mut Criterion) {
+    let mut group = c.benchmark_group("kernel");
+    let q: Vec<f64> = (0..1000).map(|k| 2.0 * k as f64 / 1000.0).collect();
+    group.throughput(Throughput::Elements(q.len() as u64));
+    for shape in [
+        KernelShape::CubicSpline,
+        KernelShape::WendlandC2,
+        KernelShape::QuinticSpline,
+    ] {
+        let kernel = Kernel::<3>::new(shape);
+        group.bench_function(BenchmarkId::new("value+derivative 3D", shape.name()), |b| {
+            b.iter(|| {
+                q.iter()
+                    .map(|&r| kernel.value(black_box(r), 1.0) + kernel.derivative(r, 1.0))
+                    .sum::<f64>()
+            })
+        });
+    }
+    group.finish();
+}
+
+fn neighbour_search<const D: usize>(c: &mut Criterion, n: usize) {
+    let dx = 0.01;
+    let x = jittered_lattice::<D>(n, dx);
+    let h = vec![1.2 * dx; x.len()];
+    let mut group = c.benchmark_group(format!("neighbours {D}D"));
+    group.throughput(Throughput::Elements(x.len() as u64));
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(5));
+    group.bench_function(BenchmarkId::new("build+query", x.len()), |b| {
+        b.iter(|| find_neighbours(&x, &h, 2.0, x.len()))
+    });
+    group.finish();
+}
+
+fn neighbours(c: &mut Criterion) {
+    neighbour_search::<2>(c, 10_000);
+    neighbour_search::<2>(c, 100_000);
+    neighbour_search::<3>(c, 10_000);
+    neighbour_search::<3>(c, 100_000);
+}
+
+fn full_step(c: &mut Criterion) {
+    let mut sim = gas_cube(100_000);
+    let n = sim.particles().n_real();
+    let dt = 0.1 * sim.stable_time_step().unwrap();
+    let mut group = c.benchmark_group("sph step 3D");
+    group.throughput(Throughput::Elements(n as u64));
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    group.bench_function(BenchmarkId::new("density+forces+integration", n), |b| {
+        b.iter(|| sim.step(dt).unwrap())
+    });
+    group.finish();
+}
+
+criterion_group!(benches, kernels, neighbours, full_step);
+criterion_main!(benches);

@@ -91,21 +91,23 @@ impl<const D: usize> Kernel<D> {
     /// W(r, h).
     #[inline]
     pub fn value(&self, r: f64, h: f64) -> f64 {
-        let q = r / h;
+        let inv_h = 1.0 / h;
+        let q = r * inv_h;
         if q >= self.support {
             return 0.0;
         }
-        self.sigma / h.powi(D as i32) * shape_value(self.shape, D, q)
+        self.sigma * inv_h.powi(D as i32) * shape_value(self.shape, D, q)
     }
 
     /// dW/dr (h held fixed).
     #[inline]
     pub fn derivative(&self, r: f64, h: f64) -> f64 {
-        let q = r / h;
+        let inv_h = 1.0 / h;
+        let q = r * inv_h;
         if q >= self.support {
             return 0.0;
         }
-        self.sigma / h.powi(D as i32 + 1) * shape_derivative(self.shape, D, q)
+        self.sigma * inv_h.powi(D as i32 + 1) * shape_derivative(self.shape, D, q)
     }
 
     /// ∇_i W(|x_i − x_j|, h) for the separation `dx = x_i − x_j` of length `r`.

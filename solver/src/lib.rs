@@ -20,7 +20,7 @@ pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
 pub use physics::{ArtificialViscosity, DensityMethod, EnergyEquation};
-pub use step::{Simulation, SimulationConfig, SmoothingLength};
+pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

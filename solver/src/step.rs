@@ -14,6 +14,7 @@ use crate::neighbours::{find_neighbours, CellGrid, NeighbourList};
 use crate::particles::{ParticleInit, Particles};
 use crate::physics::{self, ArtificialViscosity, DensityMethod, EnergyEquation};
 use crate::Vector;
+use std::time::Instant;
 
 /// How each particle's smoothing length is set.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,8 +25,8 @@ pub enum SmoothingLength {
     FollowDensity { eta: f64 },
 }
 
-/// The allowed range of the Courant number C (stable for every shock tube in the suite and the
-/// jitter stress test; above it the leapfrog step starts to amplify sound waves).
+/// The allowed range of the Courant number C, the range the stability stress test covers
+/// (jittered Sod at random C up to 0.5, and at C = 0.01).
 pub const CFL_RANGE: (f64, f64) = (0.01, 0.5);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,6 +82,23 @@ impl SimulationConfig {
     }
 }
 
+/// Wall-clock seconds spent in each phase of the steps so far (for work–precision reports and
+/// profiling; never used to decide anything).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Locality reordering, images and neighbour lists.
+    pub neighbours: f64,
+    /// Summation density and the equation of state.
+    pub density: f64,
+    /// Momentum, energy and density rates.
+    pub forces: f64,
+    /// Kicks, drift, time step and health check.
+    pub integration: f64,
+}
+
+/// Steps between locality reorderings.
+const REORDER_INTERVAL: u64 = 16;
+
 /// Values at the half step, kept between the drift and the closing kick.
 #[derive(Clone, Debug, Default)]
 struct HalfStep<const D: usize> {
@@ -102,6 +120,7 @@ pub struct Simulation<const D: usize> {
     steps: u64,
     wall_force: Vector<D>,
     wall_impulse: Vector<D>,
+    times: PhaseTimes,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -127,6 +146,7 @@ impl<const D: usize> Simulation<D> {
             steps: 0,
             wall_force: Vector::zeros(),
             wall_impulse: Vector::zeros(),
+            times: PhaseTimes::default(),
         };
         sim.evaluate_rates();
         sim.check_health()?;
@@ -147,6 +167,9 @@ impl<const D: usize> Simulation<D> {
     }
     pub fn config(&self) -> &SimulationConfig {
         &self.config
+    }
+    pub fn phase_times(&self) -> PhaseTimes {
+        self.times
     }
     /// ∫ F_wall dt: the momentum the walls have delivered so far.
     pub fn wall_impulse(&self) -> Vector<D> {
@@ -179,16 +202,23 @@ impl<const D: usize> Simulation<D> {
 
     /// One step of length `dt`.
     pub fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        let start = Instant::now();
         self.reorder_for_locality();
+        self.times.neighbours += start.elapsed().as_secs_f64();
+        let start = Instant::now();
         self.kick(0.5 * dt);
         self.drift_and_predict(dt);
+        self.times.integration += start.elapsed().as_secs_f64();
         let wall_force_before = self.wall_force;
         self.evaluate_rates();
+        let start = Instant::now();
         self.close_kick(0.5 * dt);
         self.wall_impulse += (wall_force_before + self.wall_force) * (0.5 * dt);
         self.time += dt;
         self.steps += 1;
-        self.check_health()
+        let health = self.check_health();
+        self.times.integration += start.elapsed().as_secs_f64();
+        health
     }
 
     /// The stable global time step, or a diagnosis if it has collapsed.
@@ -217,13 +247,17 @@ impl<const D: usize> Simulation<D> {
         Ok(dt)
     }
 
-    /// Sorts particles by cell so that neighbours sit close in memory.
+    /// Sorts particles along a space-filling curve so that neighbours sit close in memory; every
+    /// REORDER_INTERVAL steps, since particles move less than a smoothing length in that time.
     fn reorder_for_locality(&mut self) {
         let p = &mut self.particles;
         p.clear_images();
+        if self.steps % REORDER_INTERVAL != 0 {
+            return;
+        }
         let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
         let grid = CellGrid::build(&p.position, self.kernel.support_radius(h_max));
-        let order: Vec<usize> = grid.cell_order().collect();
+        let order = grid.locality_order(&p.position);
         if order.iter().enumerate().any(|(k, &i)| k != i) {
             p.permute(&order);
         }
@@ -276,6 +310,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Smoothing lengths → images → neighbours → density → EOS → forces.
     fn evaluate_rates(&mut self) {
+        let start = Instant::now();
         self.update_smoothing_lengths();
         let h_max = self
             .particles
@@ -292,6 +327,8 @@ impl<const D: usize> Simulation<D> {
             self.kernel.shape().support(),
             p.n_real(),
         );
+        self.times.neighbours += start.elapsed().as_secs_f64();
+        let start = Instant::now();
         if self.config.density == DensityMethod::Summation {
             physics::summation_density(p, &self.neighbours, &self.kernel);
         }
@@ -301,6 +338,8 @@ impl<const D: usize> Simulation<D> {
             p.sound_speed[i] = eos.sound_speed(p.density[i], p.internal_energy[i]);
         }
         p.refresh_image_state();
+        self.times.density += start.elapsed().as_secs_f64();
+        let start = Instant::now();
         self.wall_force = physics::compute_rates(
             p,
             &self.neighbours,
@@ -308,6 +347,7 @@ impl<const D: usize> Simulation<D> {
             &self.config.viscosity,
             self.config.energy,
         );
+        self.times.forces += start.elapsed().as_secs_f64();
     }
 
     fn update_smoothing_lengths(&mut self) {

@@ -436,12 +436,15 @@ mod tests {
         }
     }
 
-    /// |value − printed| within one unit of the printed number's last digit: the tables round or
-    /// truncate (Test 5's p* = 1691.647 is printed 1691.64).
+    /// |value − printed| within one unit of the printed number's last digit (the tables round or
+    /// truncate: Test 5's p* = 1691.647 is printed 1691.64), or 1e-5 relative: Test 5's initial
+    /// data are the six-figure star states of Tests 3 and 4, and that rounding moves its star
+    /// state by about 1e-5 relative (u* = 8.68977 against the printed 8.68975).
     fn matches_printed(value: f64, printed: &str) -> bool {
         let decimals = printed.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
         let target: f64 = printed.parse().unwrap();
-        (value - target).abs() <= 10f64.powi(-decimals) * (1.0 + 1e-9)
+        let tolerance = (10f64.powi(-decimals) * (1.0 + 1e-9)).max(1e-5 * target.abs());
+        (value - target).abs() <= tolerance
     }
 
     /// Toro (2009) Table 4.2 (exact p*, u*) and Table 4.3 (ρ*_L, ρ*_R) of Tests 1–5, each to

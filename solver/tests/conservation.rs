@@ -1,0 +1,221 @@
+//! Conservation laws of the SPH equations on boxes with periodic sides and with walls, in 2D and
+//! 3D, and the diagnoses a broken run gives.
+
+use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::{
+    Boundary, Domain, IdealGas, Material, Simulation, SimulationConfig, SolverError, Vector,
+};
+
+/// A deterministic pseudo-random number in [−1, 1) for particle k (a hash, no generator state).
+fn noise(k: usize, salt: u64) -> f64 {
+    let mut z = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    2.0 * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 1.0
+}
+
+/// n^D particles on a jittered lattice in the unit box with random velocities (Mach ~0.3) and
+/// a random pressure field, so that every term (pressure, viscosity, heating) is active.
+fn gas_box<const D: usize>(n: usize, boundary: Boundary) -> Simulation<D> {
+    let dx = 1.0 / n as f64;
+    let gas = IdealGas::new(1.4).unwrap();
+    let init: Vec<ParticleInit<D>> = (0..n.pow(D as u32))
+        .map(|k| {
+            let position = Vector::<D>::from_fn(|a, _| {
+                let index = (k / n.pow(a as u32)) % n;
+                (index as f64 + 0.5 + 0.1 * noise(k, a as u64)) * dx
+            });
+            let velocity = Vector::<D>::from_fn(|a, _| 0.3 * noise(k, 10 + a as u64));
+            let pressure = 1.0 + 0.2 * noise(k, 99);
+            ParticleInit {
+                position,
+                velocity,
+                mass: dx.powi(D as i32),
+                smoothing_length: 1.2 * dx,
+                density: 1.0,
+                internal_energy: gas.internal_energy(1.0, pressure),
+                material: 0,
+            }
+        })
+        .collect();
+    let domain = Domain::new(Vector::zeros(), Vector::repeat(1.0), [boundary; D]);
+    Simulation::new(
+        &init,
+        vec![Material::new("air", gas)],
+        domain,
+        SimulationConfig::default(),
+    )
+    .unwrap()
+}
+
+/// Runs `steps` steps and returns (|ΔP − J| / Σm(|v|+c), round-off bound, |ΔE|/E).
+fn balances<const D: usize>(sim: &mut Simulation<D>, steps: usize) -> (f64, f64, f64) {
+    let p = sim.particles();
+    let scale: f64 = (0..p.n_real())
+        .map(|i| p.mass[i] * (p.velocity[i].norm() + p.sound_speed[i]))
+        .sum();
+    let (p0, e0) = (p.total_momentum(), p.total_energy());
+    for _ in 0..steps {
+        let dt = sim.stable_time_step().unwrap();
+        sim.step(dt).unwrap();
+    }
+    let p = sim.particles();
+    let residual = (p.total_momentum() - p0 - sim.wall_impulse()).norm() / scale;
+    // each step sums n pair contributions per particle with relative error ≤ ε each
+    let bound = steps as f64 * p.n_real() as f64 * f64::EPSILON;
+    (residual, bound, (p.total_energy() - e0).abs() / e0)
+}
+
+#[test]
+fn periodic_box_conserves_momentum_to_round_off_in_2d_and_3d() {
+    let (residual, bound, _) = balances(&mut gas_box::<2>(24, Boundary::Periodic), 40);
+    assert!(residual <= bound, "2D: {residual:e} > {bound:e}");
+    let (residual, bound, _) = balances(&mut gas_box::<3>(10, Boundary::Periodic), 20);
+    assert!(residual <= bound, "3D: {residual:e} > {bound:e}");
+}
+
+#[test]
+fn periodic_box_gets_no_wall_impulse() {
+    let mut sim = gas_box::<2>(16, Boundary::Periodic);
+    balances(&mut sim, 5);
+    assert_eq!(sim.wall_impulse(), Vector::<2>::zeros());
+}
+
+/// With walls, the momentum change equals the impulse the walls delivered, and that impulse is
+/// far from zero (the gas pushes on the walls), so the balance is a real test.
+#[test]
+fn wall_box_momentum_change_equals_wall_impulse() {
+    let mut sim = gas_box::<2>(24, Boundary::Wall);
+    let (residual, bound, _) = balances(&mut sim, 40);
+    assert!(residual <= bound, "{residual:e} > {bound:e}");
+    assert!(sim.wall_impulse().norm() > 1e3 * bound);
+}
+
+/// Total energy is conserved up to the time-integration error, which is second order: halving
+/// Δt cuts the drift by about four (at least by two, leaving room for the viscous terms).
+#[test]
+fn energy_drift_is_small_and_shrinks_with_the_time_step() {
+    // the same interval t = 0.02 in 20 and in 40 fixed steps (both below the stable step)
+    let drift = |steps: usize| {
+        let mut sim = gas_box::<2>(16, Boundary::Periodic);
+        let e0 = sim.particles().total_energy();
+        let dt = 0.02 / steps as f64;
+        for _ in 0..steps {
+            sim.step(dt).unwrap();
+        }
+        (sim.particles().total_energy() - e0).abs() / e0
+    };
+    let coarse = drift(20);
+    let fine = drift(40);
+    assert!(coarse < 1e-3, "energy drift {coarse:e}");
+    assert!(fine < 0.5 * coarse, "drift {fine:e} at Δt/2 vs {coarse:e}");
+}
+
+#[test]
+fn negative_internal_energy_is_diagnosed_at_the_start() {
+    let gas = IdealGas::new(1.4).unwrap();
+    let mut init: Vec<ParticleInit<1>> = (0..20)
+        .map(|k| ParticleInit {
+            position: Vector::<1>::new(k as f64 * 0.05),
+            velocity: Vector::<1>::zeros(),
+            mass: 0.05,
+            smoothing_length: 0.06,
+            density: 1.0,
+            internal_energy: 2.5,
+            material: 0,
+        })
+        .collect();
+    init[7].internal_energy = -1.0;
+    let err = Simulation::new(
+        &init,
+        vec![Material::new("air", gas)],
+        Domain::open(),
+        SimulationConfig::default(),
+    )
+    .unwrap_err();
+    match err {
+        SolverError::BlowUp {
+            particle,
+            ref material,
+            quantity,
+            ..
+        } => {
+            assert_eq!(
+                (particle, material.as_str(), quantity),
+                (7, "air", "pressure")
+            );
+        }
+        other => panic!("expected a blow-up diagnosis, got {other}"),
+    }
+}
+
+#[test]
+fn time_step_collapse_names_the_limiting_particle() {
+    let gas = IdealGas::new(1.4).unwrap();
+    let init: Vec<ParticleInit<1>> = (0..20)
+        .map(|k| ParticleInit {
+            position: Vector::<1>::new(k as f64 * 0.05),
+            velocity: Vector::<1>::zeros(),
+            mass: 0.05,
+            smoothing_length: 0.06,
+            density: 1.0,
+            internal_energy: 2.5,
+            material: 0,
+        })
+        .collect();
+    // a floor above any stable step forces the collapse diagnosis
+    let config = SimulationConfig {
+        min_time_step: 1.0,
+        ..SimulationConfig::default()
+    };
+    let sim = Simulation::new(
+        &init,
+        vec![Material::new("air", gas)],
+        Domain::open(),
+        config,
+    )
+    .unwrap();
+    let err = sim.stable_time_step().unwrap_err().to_string();
+    assert!(
+        err.contains("time step collapse") && err.contains("particle") && err.contains("air"),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_configuration_names_the_field_and_range() {
+    let gas = IdealGas::new(1.4).unwrap();
+    let init = [ParticleInit {
+        position: Vector::<1>::zeros(),
+        velocity: Vector::<1>::zeros(),
+        mass: 1.0,
+        smoothing_length: 0.1,
+        density: 1.0,
+        internal_energy: 1.0,
+        material: 0,
+    }];
+    let config = SimulationConfig {
+        cfl: 2.0,
+        ..SimulationConfig::default()
+    };
+    let err = Simulation::new(
+        &init,
+        vec![Material::new("air", gas)],
+        Domain::open(),
+        config,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("cfl") && err.contains("allowed"), "{err}");
+    let mut bad = init;
+    bad[0].density = -1.0;
+    let err = Simulation::new(
+        &bad,
+        vec![Material::new("air", gas)],
+        Domain::open(),
+        SimulationConfig::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("density") && err.contains("> 0"), "{err}");
+}
