@@ -167,9 +167,12 @@ fn verify(
         bar.finish_and_clear();
         report::write_outputs(&out, &output)?;
         let r = &output.record;
+        // the finest completed resolution; max_by_key keeps the last of equals, so search
+        // backwards to prefer the first (variants such as the half-Courant rerun come after)
         let finest = r
             .runs
             .iter()
+            .rev()
             .filter(|run| run.failure.is_none())
             .max_by_key(|run| run.n_particles)
             .or(r.runs.last());

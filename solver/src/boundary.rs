@@ -2,6 +2,7 @@
 //! 1993) or periodic (shifted images), chosen per axis. Images are made afresh every step for the
 //! particles within reach of a boundary, so the pair loops need no special cases.
 
+use crate::error::SolverError;
 use crate::particles::Particles;
 use crate::Vector;
 
@@ -19,21 +20,62 @@ pub enum Boundary {
 pub struct Domain<const D: usize> {
     pub lo: Vector<D>,
     pub hi: Vector<D>,
-    pub boundary: [Boundary; D],
+    /// The boundary at x_a = lo_a, per axis.
+    pub lower: [Boundary; D],
+    /// The boundary at x_a = hi_a, per axis.
+    pub upper: [Boundary; D],
 }
 
 impl<const D: usize> Domain<D> {
-    /// Unbounded: every axis open.
+    /// Unbounded: every side open.
     pub fn open() -> Self {
         Self {
             lo: Vector::repeat(f64::NEG_INFINITY),
             hi: Vector::repeat(f64::INFINITY),
-            boundary: [Boundary::Open; D],
+            lower: [Boundary::Open; D],
+            upper: [Boundary::Open; D],
         }
     }
 
+    /// The same boundary on both sides of each axis.
     pub fn new(lo: Vector<D>, hi: Vector<D>, boundary: [Boundary; D]) -> Self {
-        Self { lo, hi, boundary }
+        Self {
+            lo,
+            hi,
+            lower: boundary,
+            upper: boundary,
+        }
+    }
+
+    /// Each side its own boundary; a periodic axis must be periodic on both sides.
+    pub fn with_sides(
+        lo: Vector<D>,
+        hi: Vector<D>,
+        lower: [Boundary; D],
+        upper: [Boundary; D],
+    ) -> Result<Self, SolverError> {
+        for a in 0..D {
+            if (lower[a] == Boundary::Periodic) != (upper[a] == Boundary::Periodic) {
+                return Err(SolverError::invalid(
+                    &format!("boundary on axis {a}"),
+                    format!("{:?}/{:?}", lower[a], upper[a]),
+                    "periodic on both sides or on neither",
+                ));
+            }
+            if !(lo[a] < hi[a]) {
+                return Err(SolverError::invalid(
+                    &format!("domain on axis {a}"),
+                    format!("[{}, {}]", lo[a], hi[a]),
+                    "lo < hi",
+                ));
+            }
+        }
+        Ok(Self {
+            lo,
+            hi,
+            lower,
+            upper,
+        })
     }
 
     /// Appends images of every particle within `reach` of a wall or periodic side. Axes are done
@@ -41,40 +83,31 @@ impl<const D: usize> Domain<D> {
     pub fn make_images(&self, particles: &mut Particles<D>, reach: f64) {
         particles.clear_images();
         for a in 0..D {
-            if self.boundary[a] == Boundary::Open {
-                continue;
-            }
             let (lo, hi) = (self.lo[a], self.hi[a]);
-            let mut flip = Vector::<D>::repeat(1.0);
-            let periodic = self.boundary[a] == Boundary::Periodic;
-            if !periodic {
-                flip[a] = -1.0;
-            }
+            let periodic = self.lower[a] == Boundary::Periodic;
+            let mut mirror = Vector::<D>::repeat(1.0);
+            mirror[a] = -1.0;
             for i in 0..particles.len() {
                 let x = particles.position[i];
-                for (near, target) in [
-                    (
-                        x[a] - lo < reach,
-                        if periodic {
-                            x[a] + (hi - lo)
-                        } else {
-                            2.0 * lo - x[a]
-                        },
-                    ),
-                    (
-                        hi - x[a] < reach,
-                        if periodic {
-                            x[a] - (hi - lo)
-                        } else {
-                            2.0 * hi - x[a]
-                        },
-                    ),
-                ] {
-                    if near {
-                        let mut y = x;
-                        y[a] = target;
-                        particles.push_image(i, y, flip, !periodic);
+                let mut image = |target: f64, flip: Vector<D>, is_wall: bool| {
+                    let mut y = x;
+                    y[a] = target;
+                    particles.push_image(i, y, flip, is_wall);
+                };
+                if periodic {
+                    if x[a] - lo < reach {
+                        image(x[a] + (hi - lo), Vector::repeat(1.0), false);
                     }
+                    if hi - x[a] < reach {
+                        image(x[a] - (hi - lo), Vector::repeat(1.0), false);
+                    }
+                    continue;
+                }
+                if self.lower[a] == Boundary::Wall && x[a] - lo < reach {
+                    image(2.0 * lo - x[a], mirror, true);
+                }
+                if self.upper[a] == Boundary::Wall && hi - x[a] < reach {
+                    image(2.0 * hi - x[a], mirror, true);
                 }
             }
         }
@@ -82,7 +115,7 @@ impl<const D: usize> Domain<D> {
 
     /// Moves real particles that crossed a periodic side back into the box.
     pub fn wrap_periodic(&self, particles: &mut Particles<D>) {
-        for a in (0..D).filter(|&a| self.boundary[a] == Boundary::Periodic) {
+        for a in (0..D).filter(|&a| self.lower[a] == Boundary::Periodic) {
             let (lo, len) = (self.lo[a], self.hi[a] - self.lo[a]);
             let n = particles.n_real();
             for x in &mut particles.position[..n] {
@@ -94,7 +127,8 @@ impl<const D: usize> Domain<D> {
     /// The axis of a wall that `x` has passed through, if any.
     pub fn outside_wall(&self, x: &Vector<D>) -> Option<usize> {
         (0..D).find(|&a| {
-            self.boundary[a] == Boundary::Wall && (x[a] < self.lo[a] || x[a] > self.hi[a])
+            (self.lower[a] == Boundary::Wall && x[a] < self.lo[a])
+                || (self.upper[a] == Boundary::Wall && x[a] > self.hi[a])
         })
     }
 }

@@ -4,8 +4,9 @@
 //!
 //! Set-up: interface at x0 in [0, 1], left state with `n_left` particles at spacing x0/n_left,
 //! right state at the spacing that gives the same particle mass. The ends are walls (mirror
-//! images) at 0 and 1 where the gas is at rest; where it moves, the tube is extended beyond
-//! [0, 1] far enough that the wave the wall launches cannot reach [0, 1] by t_end.
+//! images) at 0 and 1 where the gas is at rest; where it moves, the end is open (outflow) or a
+//! wall (gas moving away from it), beyond [0, 1] far enough that the end's wave cannot reach
+//! [0, 1] by t_end.
 //! Errors are L1 norms over [0, 1].
 
 use crate::norms::{l1_error, observed_order};
@@ -112,7 +113,10 @@ fn info(name: &'static str, summary: &'static str, case: &Case) -> super::Proble
             ),
             ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
             ParamSpec::new("beta", 2.0, "artificial viscosity β"),
-            ParamSpec::new("eta", 1.2, "smoothing length h = η·m/ρ"),
+            // η = 2 (8 neighbours in 1D): at η = 1.2 the discrete kernel sum is off by 0.2 % and
+            // Toro 3's errors stop falling at 200 particles (L1(u) 0.26, 0.24, 0.24 for 200–800);
+            // at η = 2 Sod and Toro 3 converge at first order (measured, see the issue note)
+            ParamSpec::new("eta", 2.0, "smoothing length h = η·m/ρ"),
             ParamSpec::new("kernel", "cubic-spline", "kernel shape"),
             ParamSpec::new(
                 "jitter",
@@ -211,30 +215,38 @@ fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
     let dx_left = x0 / n_left as f64;
     let mass = left.rho * dx_left;
     let dx_right = mass / right.rho;
-    // Both ends are walls. Where the gas at an end moves, the wall launches a wave: the Riemann
-    // problem of the end state against its mirror image. The tube is extended so that this
-    // wave cannot reach [0, 1] by t_end (a margin of ten spacings keeps kernels clear of it).
+    // Where the gas at an end moves towards it, that end is open: the gas flows out freely and
+    // the free surface's rarefaction travels inwards at u + c (left end) only if the outflow is
+    // subsonic. Elsewhere the end is a wall, and where the gas there moves away from it the wall
+    // launches a wave: the Riemann problem of the end state against its mirror image. Either
+    // way the tube is extended so that no end's wave reaches [0, 1] by t_end (a margin of ten
+    // spacings keeps kernels clear of it); at rest the walls sit at 0 and 1.
     let margin = 10.0 * dx_left.max(dx_right);
+    let sound = |g: &GasState| (s.gamma * g.p / g.rho).sqrt();
     let mirror = |g: &GasState| GasState::new(g.rho, -g.u, g.p);
     let extension = |inward_speed: f64| {
         if inward_speed > 0.0 {
             inward_speed * t_out + margin
         } else {
-            0.0
+            margin
         }
     };
-    let left_wave = riemann::solve(mirror(&left), left, s.gamma).map_or(0.0, |w| w.speed_range().1);
-    let right_wave =
-        riemann::solve(right, mirror(&right), s.gamma).map_or(0.0, |w| -w.speed_range().0);
-    let x_lo = if left.u == 0.0 {
-        0.0
+    let (lower, x_lo) = if left.u < 0.0 {
+        (Boundary::Open, -extension(left.u + sound(&left)))
+    } else if left.u > 0.0 {
+        let wave = riemann::solve(mirror(&left), left, s.gamma).map_or(0.0, |w| w.speed_range().1);
+        (Boundary::Wall, -extension(wave))
     } else {
-        -extension(left_wave)
+        (Boundary::Wall, 0.0)
     };
-    let x_hi = if right.u == 0.0 {
-        1.0
+    let (upper, x_hi) = if right.u > 0.0 {
+        (Boundary::Open, 1.0 + extension(sound(&right) - right.u))
+    } else if right.u < 0.0 {
+        let wave =
+            riemann::solve(right, mirror(&right), s.gamma).map_or(0.0, |w| -w.speed_range().0);
+        (Boundary::Wall, 1.0 + extension(wave))
     } else {
-        1.0 + extension(right_wave)
+        (Boundary::Wall, 1.0)
     };
     let eos = IdealGas::new(s.gamma).expect("gamma validated");
     let eta = match s.config.smoothing {
@@ -259,14 +271,14 @@ fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
         .map(|k| particle(x0 - (k as f64 + 0.5) * dx_left, &left, dx_left))
         .collect();
     init.extend((0..n_hi).map(|k| particle(x0 + (k as f64 + 0.5) * dx_right, &right, dx_right)));
-    (
-        init,
-        Domain::new(
-            Vector::<1>::new(x_lo),
-            Vector::<1>::new(x_hi),
-            [Boundary::Wall],
-        ),
+    let domain = Domain::with_sides(
+        Vector::<1>::new(x_lo),
+        Vector::<1>::new(x_hi),
+        [lower],
+        [upper],
     )
+    .expect("walls or open ends on a valid interval");
+    (init, domain)
 }
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a small, seedable generator for reproducible jitter.
