@@ -166,6 +166,7 @@ impl Panel {
             y0 + h / 2.0,
             escape(&self.y_label)
         );
+        let mut legend = Vec::new();
         for (k, series) in self.series.iter().enumerate() {
             let colour = COLOURS[k % COLOURS.len()];
             let finite = series
@@ -194,15 +195,28 @@ impl Panel {
                     }
                 }
             }
+            legend.push((colour, series.label.as_str()));
+        }
+        // the legend last, on a white box, so that it stays readable over the data
+        if !legend.is_empty() {
+            let _ = writeln!(
+                s,
+                r##"<rect x="{}" y="{}" width="190" height="{}" fill="white" fill-opacity="0.85" stroke="#bbb"/>"##,
+                x0 + w - 194.0,
+                y0 + 4.0,
+                16.0 * legend.len() as f64 + 6.0
+            );
+        }
+        for (k, (colour, label)) in legend.into_iter().enumerate() {
             let ly = y0 + 14.0 + 16.0 * k as f64;
             let _ = writeln!(
                 s,
                 r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#,
-                x0 + w - 150.0,
-                x0 + w - 130.0,
-                x0 + w - 124.0,
+                x0 + w - 188.0,
+                x0 + w - 168.0,
+                x0 + w - 162.0,
                 ly + 4.0,
-                escape(&series.label)
+                escape(label)
             );
         }
     }
