@@ -42,7 +42,8 @@ fn kernel_interpolation_passes_its_checks() {
 }
 
 /// Sod at quick level: L1(ρ) ≤ 6e-3 at 400 left particles, observed order ≥ 0.5, mass exact,
-/// momentum balanced to round-off, energy within 1e-4 and shrinking with Δt, ρ and p positive.
+/// momentum balanced to round-off against the wall impulse (itself equal to (p_L − p_R)·t),
+/// energy within 1e-4 and shrinking with Δt, ρ and p positive.
 #[test]
 fn sod_passes_its_quick_checks() {
     let out = run("sod", &[]);
