@@ -1,6 +1,10 @@
 //! The simulation: its state and one time step, in the order of operations.
 //!
-//! Integration is kick–drift–kick leapfrog (second order, time-reversible without viscosity):
+//! Integration is kick–drift–kick leapfrog (second order). Without viscosity it retraces its
+//! steps to third order in Δt: exactly for the positions' part, up to the energy predictor below
+//! (tested in `solver/tests/conservation.rs`). With `SmoothingLength::FollowDensity`, h lags
+//! one step behind the density, which breaks reversal at first order; the grad-h scheme that
+//! solves h and ρ together is the cure. Steps:
 //! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted
 //! v* = v^{n+½} + a^n Δt/2 (and likewise e, ρ), then v^{n+1} = v^{n+½} + a^{n+1} Δt/2.
 //! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
