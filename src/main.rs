@@ -152,7 +152,7 @@ fn verify(
     }
     println!(
         "{:<22} {:>9} {:>7} {:>9}  {:<44} {:<20} result",
-        "problem", "particles", "steps", "wall s", "main errors (finest run)", "observed order"
+        "problem", "particles", "steps", "wall s", "main errors", "observed order"
     );
     let mut all_pass = true;
     for name in &names {
@@ -167,15 +167,7 @@ fn verify(
         bar.finish_and_clear();
         report::write_outputs(&out, &output)?;
         let r = &output.record;
-        // the finest completed resolution; max_by_key keeps the last of equals, so search
-        // backwards to prefer the first (variants such as the half-Courant rerun come after)
-        let finest = r
-            .runs
-            .iter()
-            .rev()
-            .filter(|run| run.failure.is_none())
-            .max_by_key(|run| run.n_particles)
-            .or(r.runs.last());
+        let finest = r.headline();
         let errors = finest
             .map(|run| {
                 run.errors

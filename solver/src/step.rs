@@ -189,11 +189,14 @@ impl<const D: usize> Simulation<D> {
         while self.time < t_end {
             let dt = self.stable_time_step()?;
             let remaining = t_end - self.time;
-            // take the last step exactly to t_end; avoid leaving a sliver of a step behind
+            // end exactly at t_end; where one stable step would leave a sliver behind, take two
+            // equal steps instead
             let dt = if dt >= remaining * (1.0 - 1e-9) {
                 remaining
+            } else if dt > 0.5 * remaining {
+                0.5 * remaining
             } else {
-                dt.min(0.5 * remaining).max(dt)
+                dt
             };
             self.step(dt)?;
             if self.time >= t_end - 1e-12 * t_end {

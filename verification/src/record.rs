@@ -68,12 +68,18 @@ pub struct Record {
     pub checks: Vec<Check>,
     pub pass: bool,
     pub wall_s: f64,
+    /// The run a one-line summary shows (the finest resolution, or the thesis' case).
+    pub headline_run: usize,
 }
 
 impl Record {
     /// Sets `pass` from the checks (a record without checks does not pass).
     pub fn settle(&mut self) {
         self.pass = !self.checks.is_empty() && self.checks.iter().all(|c| c.pass);
+    }
+
+    pub fn headline(&self) -> Option<&Run> {
+        self.runs.get(self.headline_run)
     }
 
     pub fn check(&self, name: &str) -> Option<&Check> {

@@ -223,6 +223,11 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             checks,
             pass: false,
             wall_s: 0.0,
+            // h = 1.55, the case the thesis discusses
+            headline_run: SMOOTHING_LENGTHS
+                .iter()
+                .position(|&h| h == 1.55)
+                .unwrap_or(0),
         },
         profile: Table { columns, rows },
         figure: Figure {

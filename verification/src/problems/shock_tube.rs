@@ -591,6 +591,7 @@ pub fn run(
             checks,
             pass: false,
             wall_s: 0.0,
+            headline_run: finest,
         },
         profile,
         figure,
