@@ -2,7 +2,7 @@
 //! work is done by `blastsph-verification` and `blastsph-solver`.
 
 use blastsph_verification::params::parse_assignment;
-use blastsph_verification::riemann::{self, GasState, Pattern};
+use blastsph_verification::riemann::{self, GasState};
 use blastsph_verification::{problems, report, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -231,16 +231,10 @@ fn riemann_command(left: &str, right: &str, gamma: f64, json: bool) -> Result<()
         parse_state("right", right)?,
         gamma,
     )?;
-    let (p_star, u_star, rho_l, rho_r) = match solution.pattern {
-        Pattern::Star {
-            p_star,
-            u_star,
-            rho_star_left,
-            rho_star_right,
-            ..
-        } => (p_star, u_star, rho_star_left, rho_star_right),
-        _ => (0.0, f64::NAN, 0.0, 0.0),
-    };
+    // with a vacuum there is no star region: zero pressure and density, no velocity
+    let (p_star, u_star, rho_l, rho_r) = solution.star().map_or((0.0, f64::NAN, 0.0, 0.0), |s| {
+        (s.p, s.u, s.rho_left, s.rho_right)
+    });
     let waves = solution.describe();
     if json {
         let value = serde_json::json!({

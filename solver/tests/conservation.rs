@@ -111,10 +111,9 @@ fn energy_drift_is_small_and_shrinks_with_the_time_step() {
     assert!(fine < 0.5 * coarse, "drift {fine:e} at Δt/2 vs {coarse:e}");
 }
 
-#[test]
-fn negative_internal_energy_is_diagnosed_at_the_start() {
-    let gas = IdealGas::new(1.4).unwrap();
-    let mut init: Vec<ParticleInit<1>> = (0..20)
+/// Twenty particles of gas at rest on a line (ρ = 1, e = 2.5).
+fn gas_at_rest_1d() -> Vec<ParticleInit<1>> {
+    (0..20)
         .map(|k| ParticleInit {
             position: Vector::<1>::new(k as f64 * 0.05),
             velocity: Vector::<1>::zeros(),
@@ -124,7 +123,13 @@ fn negative_internal_energy_is_diagnosed_at_the_start() {
             internal_energy: 2.5,
             material: 0,
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn negative_internal_energy_is_diagnosed_at_the_start() {
+    let gas = IdealGas::new(1.4).unwrap();
+    let mut init = gas_at_rest_1d();
     init[7].internal_energy = -1.0;
     let err = Simulation::new(
         &init,
@@ -152,17 +157,7 @@ fn negative_internal_energy_is_diagnosed_at_the_start() {
 #[test]
 fn time_step_collapse_names_the_limiting_particle() {
     let gas = IdealGas::new(1.4).unwrap();
-    let init: Vec<ParticleInit<1>> = (0..20)
-        .map(|k| ParticleInit {
-            position: Vector::<1>::new(k as f64 * 0.05),
-            velocity: Vector::<1>::zeros(),
-            mass: 0.05,
-            smoothing_length: 0.06,
-            density: 1.0,
-            internal_energy: 2.5,
-            material: 0,
-        })
-        .collect();
+    let init = gas_at_rest_1d();
     // a floor above any stable step forces the collapse diagnosis
     let config = SimulationConfig {
         min_time_step: 1.0,
@@ -185,15 +180,7 @@ fn time_step_collapse_names_the_limiting_particle() {
 #[test]
 fn bad_configuration_names_the_field_and_range() {
     let gas = IdealGas::new(1.4).unwrap();
-    let init = [ParticleInit {
-        position: Vector::<1>::zeros(),
-        velocity: Vector::<1>::zeros(),
-        mass: 1.0,
-        smoothing_length: 0.1,
-        density: 1.0,
-        internal_energy: 1.0,
-        material: 0,
-    }];
+    let init = gas_at_rest_1d();
     let config = SimulationConfig {
         cfl: 2.0,
         ..SimulationConfig::default()
@@ -208,7 +195,7 @@ fn bad_configuration_names_the_field_and_range() {
     .to_string();
     assert!(err.contains("cfl") && err.contains("allowed"), "{err}");
     let mut bad = init;
-    bad[0].density = -1.0;
+    bad[3].density = -1.0;
     let err = Simulation::new(
         &bad,
         vec![Material::new("air", gas)],

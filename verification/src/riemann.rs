@@ -238,7 +238,35 @@ fn star_pattern(left: GasState, right: GasState, gamma: f64) -> Pattern {
     }
 }
 
+/// The star region between the two waves.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StarState {
+    pub p: f64,
+    pub u: f64,
+    pub rho_left: f64,
+    pub rho_right: f64,
+}
+
 impl RiemannSolution {
+    /// The star state, where there is one (no vacuum).
+    pub fn star(&self) -> Option<StarState> {
+        match self.pattern {
+            Pattern::Star {
+                p_star,
+                u_star,
+                rho_star_left,
+                rho_star_right,
+                ..
+            } => Some(StarState {
+                p: p_star,
+                u: u_star,
+                rho_left: rho_star_left,
+                rho_right: rho_star_right,
+            }),
+            _ => None,
+        }
+    }
+
     /// The state at similarity coordinate s = (x − x0)/t.
     pub fn sample(&self, s: f64) -> GasState {
         let vacuum = GasState::new(0.0, 0.0, 0.0);
@@ -424,16 +452,11 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn star(left: GasState, right: GasState) -> (f64, f64, f64, f64) {
-        match solve(left, right, 1.4).unwrap().pattern {
-            Pattern::Star {
-                p_star,
-                u_star,
-                rho_star_left,
-                rho_star_right,
-                ..
-            } => (p_star, u_star, rho_star_left, rho_star_right),
-            other => panic!("expected a star region, got {other:?}"),
-        }
+        let s = solve(left, right, 1.4)
+            .unwrap()
+            .star()
+            .expect("a star region");
+        (s.p, s.u, s.rho_left, s.rho_right)
     }
 
     /// |value − printed| within one unit of the printed number's last digit (the tables round or
