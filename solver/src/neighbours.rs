@@ -151,6 +151,12 @@ impl<const D: usize> CellGrid<D> {
         &self.members[self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize]
     }
 
+    /// The centre of cell `c`.
+    fn centre(&self, c: usize) -> Vector<D> {
+        let cell = self.coordinates(c);
+        Vector::from_fn(|a, _| self.origin[a] + (cell[a] as f64 + 0.5) * self.cell_size)
+    }
+
     /// The cell coordinates of linear index `c`.
     fn coordinates(&self, mut c: usize) -> [usize; D] {
         std::array::from_fn(|a| {
@@ -209,35 +215,27 @@ pub fn find_neighbours<const D: usize>(
         .map(|task| {
             let mut found: Vec<(u32, u32)> = Vec::new();
             let mut indices = Vec::new();
-            let mut candidates: Vec<Candidate<D>> = Vec::new();
+            let mut candidates = CandidateBuffer::<D>::default();
             for cell in task * CELLS_PER_TASK..((task + 1) * CELLS_PER_TASK).min(n_cells) {
                 let members = grid.members_of(cell);
                 if !members.iter().any(|&i| (i as usize) < n_query) {
                     continue;
                 }
-                candidates.clear();
+                candidates.clear(grid.centre(cell));
                 grid.for_each_adjacent_cell(&grid.coordinates(cell), |c| {
-                    candidates.extend(grid.members_of(c).iter().map(|&j| Candidate {
-                        position: positions[j as usize],
-                        half_reach: 0.5 * support * smoothing_length[j as usize],
-                        index: j,
-                    }));
+                    for &j in grid.members_of(c) {
+                        let half_reach = 0.5 * support * smoothing_length[j as usize];
+                        candidates.push(j, &positions[j as usize], half_reach);
+                    }
                 });
                 for &i in members.iter().filter(|&&i| (i as usize) < n_query) {
                     let start = indices.len() as u32;
-                    let (xi, half_reach_i) = (
-                        positions[i as usize],
-                        0.5 * support * smoothing_length[i as usize],
-                    );
-                    indices.extend(
-                        candidates
-                            .iter()
-                            .filter(|c| {
-                                let reach = half_reach_i + c.half_reach;
-                                (c.position - xi).norm_squared() < reach * reach
-                            })
-                            .map(|c| c.index)
-                            .filter(|&j| j != i),
+                    let half_reach_i = 0.5 * support * smoothing_length[i as usize];
+                    candidates.collect_within(
+                        i,
+                        &positions[i as usize],
+                        half_reach_i,
+                        &mut indices,
                     );
                     found.push((i, start));
                 }
@@ -263,6 +261,90 @@ struct Candidate<const D: usize> {
     position: Vector<D>,
     half_reach: f64,
     index: u32,
+}
+
+/// The particles around one cell, twice: exactly (f64) and as single-precision coordinates
+/// relative to the cell centre, laid out by axis. The f32 pass is a loose, vectorisable filter
+/// (its reach is widened by FILTER_SLACK, far more than f32 round-off on coordinates of a few
+/// cell sizes); the exact f64 test then decides, so the lists are the same as an f64 search.
+struct CandidateBuffer<const D: usize> {
+    origin: Vector<D>,
+    exact: Vec<Candidate<D>>,
+    coarse: [Vec<f32>; D],
+    coarse_half_reach: Vec<f32>,
+    near: Vec<bool>,
+    hits: Vec<u32>,
+}
+
+/// Relative widening of the f32 filter's reach.
+const FILTER_SLACK: f32 = 1e-3;
+
+impl<const D: usize> Default for CandidateBuffer<D> {
+    fn default() -> Self {
+        Self {
+            origin: Vector::zeros(),
+            exact: Vec::new(),
+            coarse: std::array::from_fn(|_| Vec::new()),
+            coarse_half_reach: Vec::new(),
+            near: Vec::new(),
+            hits: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> CandidateBuffer<D> {
+    fn clear(&mut self, origin: Vector<D>) {
+        self.origin = origin;
+        self.exact.clear();
+        self.coarse.iter_mut().for_each(Vec::clear);
+        self.coarse_half_reach.clear();
+    }
+
+    fn push(&mut self, index: u32, position: &Vector<D>, half_reach: f64) {
+        self.exact.push(Candidate {
+            position: *position,
+            half_reach,
+            index,
+        });
+        for a in 0..D {
+            self.coarse[a].push((position[a] - self.origin[a]) as f32);
+        }
+        self.coarse_half_reach.push(half_reach as f32);
+    }
+
+    /// Appends to `out` every candidate j ≠ i with r_ij < κ (h_i + h_j)/2.
+    fn collect_within(&mut self, i: u32, xi: &Vector<D>, half_reach_i: f64, out: &mut Vec<u32>) {
+        let n = self.exact.len();
+        let centre: [f32; D] = std::array::from_fn(|a| (xi[a] - self.origin[a]) as f32);
+        let widen = (1.0 + FILTER_SLACK) * (1.0 + FILTER_SLACK);
+        let hr_i = half_reach_i as f32;
+        self.near.resize(n, false);
+        let coarse: [&[f32]; D] = std::array::from_fn(|a| &self.coarse[a][..n]);
+        let half_reach = &self.coarse_half_reach[..n];
+        for (k, near) in self.near[..n].iter_mut().enumerate() {
+            let mut r2 = 0.0f32;
+            for a in 0..D {
+                let d = coarse[a][k] - centre[a];
+                r2 += d * d;
+            }
+            let reach = hr_i + half_reach[k];
+            *near = r2 < reach * reach * widen;
+        }
+        // compact the passing candidates without a branch per candidate (most fail)
+        self.hits.resize(n + 1, 0);
+        let mut count = 0;
+        for (k, &near) in self.near[..n].iter().enumerate() {
+            self.hits[count] = k as u32;
+            count += usize::from(near);
+        }
+        for &k in &self.hits[..count] {
+            let c = &self.exact[k as usize];
+            let reach = half_reach_i + c.half_reach;
+            if c.index != i && (c.position - xi).norm_squared() < reach * reach {
+                out.push(c.index);
+            }
+        }
+    }
 }
 
 /// Cells are 1/STENCIL of the largest reach, and a query scans STENCIL cells each way. With 2

@@ -101,12 +101,10 @@ impl ArtificialViscosity {
     /// Π_ij for a pair with v_ij·x_ij = `v_dot_x`, r² = `r2`, mean h, c and ρ.
     #[inline]
     pub fn pi(&self, v_dot_x: f64, r2: f64, h: f64, c_mean: f64, rho_mean: f64) -> f64 {
-        if v_dot_x >= 0.0 {
-            return 0.0;
-        }
         // μ = t/d with t = h v·x, d = r² + η²h²; Π = (−α c̄ μ + β μ²)/ρ̄ = t(β t − α c̄ d)/(d² ρ̄),
-        // one division instead of two
-        let t = h * v_dot_x;
+        // one division instead of two. Receding pairs (v·x ≥ 0) get t = 0 and so Π = 0, without
+        // a branch that half the pairs of a random velocity field would mispredict.
+        let t = h * v_dot_x.min(0.0);
         let d = r2 + self.eta2 * h * h;
         t * (self.beta * t - self.alpha * c_mean * d) / (d * d * rho_mean)
     }
