@@ -1,9 +1,10 @@
-//! `cargo bench`: kernel evaluation, neighbour search (10⁴ and 10⁵ particles, 2D and 3D,
-//! jittered lattice, h = 1.2 Δx) and one full SPH step for 10⁵ particles in 3D. Throughput is
+//! `cargo bench`: kernel evaluation, neighbour search (cell-grid build alone, and build plus
+//! the query of every particle; 10⁴ and 10⁵ particles, 2D and 3D, jittered lattice,
+//! h = 1.2 Δx) and one full SPH step for 10⁵ particles in 3D. Throughput is
 //! reported in elements per second: kernel evaluations, particles searched, particle updates.
 
 use blastsph_benchmarks::{gas_cube, jittered_lattice};
-use blastsph_solver::neighbours::find_neighbours;
+use blastsph_solver::neighbours::{find_neighbours, CellGrid};
 use blastsph_solver::{Kernel, KernelShape};
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::time::Duration;
@@ -38,6 +39,9 @@ fn neighbour_search<const D: usize>(c: &mut Criterion, n: usize) {
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(5));
+    group.bench_function(BenchmarkId::new("build", x.len()), |b| {
+        b.iter(|| CellGrid::build(&x, 2.0 * 1.2 * dx))
+    });
     group.bench_function(BenchmarkId::new("build+query", x.len()), |b| {
         b.iter(|| find_neighbours(&x, &h, 2.0, x.len()))
     });

@@ -208,6 +208,7 @@ pub fn find_neighbours<const D: usize>(
     let h_max = smoothing_length.iter().cloned().fold(0.0, f64::max);
     let grid = CellGrid::build(positions, support * h_max / STENCIL as f64);
     let n_cells = grid.cell_start.len() - 1;
+    let half_reaches: Vec<f64> = smoothing_length.iter().map(|h| 0.5 * support * h).collect();
     // Work by cell: the candidates of the cells around a cell are gathered once into a
     // contiguous buffer and tested against every particle of the cell in a tight loop.
     let tasks: Vec<(Vec<(u32, u32)>, Vec<u32>)> = (0..n_cells.div_ceil(CELLS_PER_TASK))
@@ -224,19 +225,12 @@ pub fn find_neighbours<const D: usize>(
                 candidates.clear(grid.centre(cell));
                 grid.for_each_adjacent_cell(&grid.coordinates(cell), |c| {
                     for &j in grid.members_of(c) {
-                        let half_reach = 0.5 * support * smoothing_length[j as usize];
-                        candidates.push(j, &positions[j as usize], half_reach);
+                        candidates.push(j, &positions[j as usize], half_reaches[j as usize]);
                     }
                 });
                 for &i in members.iter().filter(|&&i| (i as usize) < n_query) {
                     let start = indices.len() as u32;
-                    let half_reach_i = 0.5 * support * smoothing_length[i as usize];
-                    candidates.collect_within(
-                        i,
-                        &positions[i as usize],
-                        half_reach_i,
-                        &mut indices,
-                    );
+                    candidates.collect_within(i, positions, &half_reaches, &mut indices);
                     found.push((i, start));
                 }
             }
@@ -255,21 +249,14 @@ pub fn find_neighbours<const D: usize>(
     NeighbourList { blocks, location }
 }
 
-/// One candidate neighbour: position, half its reach κ h_j / 2, and index.
-#[derive(Clone, Copy)]
-struct Candidate<const D: usize> {
-    position: Vector<D>,
-    half_reach: f64,
-    index: u32,
-}
-
-/// The particles around one cell, twice: exactly (f64) and as single-precision coordinates
-/// relative to the cell centre, laid out by axis. The f32 pass is a loose, vectorisable filter
-/// (its reach is widened by FILTER_SLACK, far more than f32 round-off on coordinates of a few
-/// cell sizes); the exact f64 test then decides, so the lists are the same as an f64 search.
+/// The particles around one cell as single-precision coordinates relative to the cell centre,
+/// laid out by axis, with their indices. This f32 pass is a loose, vectorisable filter (its
+/// reach is widened by FILTER_SLACK, far more than f32 round-off on coordinates of a few cell
+/// sizes); the exact f64 test on the few that pass then decides, so the lists are those of an
+/// f64 search.
 struct CandidateBuffer<const D: usize> {
     origin: Vector<D>,
-    exact: Vec<Candidate<D>>,
+    index: Vec<u32>,
     coarse: [Vec<f32>; D],
     coarse_half_reach: Vec<f32>,
     near: Vec<bool>,
@@ -283,7 +270,7 @@ impl<const D: usize> Default for CandidateBuffer<D> {
     fn default() -> Self {
         Self {
             origin: Vector::zeros(),
-            exact: Vec::new(),
+            index: Vec::new(),
             coarse: std::array::from_fn(|_| Vec::new()),
             coarse_half_reach: Vec::new(),
             near: Vec::new(),
@@ -295,26 +282,30 @@ impl<const D: usize> Default for CandidateBuffer<D> {
 impl<const D: usize> CandidateBuffer<D> {
     fn clear(&mut self, origin: Vector<D>) {
         self.origin = origin;
-        self.exact.clear();
+        self.index.clear();
         self.coarse.iter_mut().for_each(Vec::clear);
         self.coarse_half_reach.clear();
     }
 
     fn push(&mut self, index: u32, position: &Vector<D>, half_reach: f64) {
-        self.exact.push(Candidate {
-            position: *position,
-            half_reach,
-            index,
-        });
+        self.index.push(index);
         for a in 0..D {
             self.coarse[a].push((position[a] - self.origin[a]) as f32);
         }
         self.coarse_half_reach.push(half_reach as f32);
     }
 
-    /// Appends to `out` every candidate j ≠ i with r_ij < κ (h_i + h_j)/2.
-    fn collect_within(&mut self, i: u32, xi: &Vector<D>, half_reach_i: f64, out: &mut Vec<u32>) {
-        let n = self.exact.len();
+    /// Appends to `out` every candidate j ≠ i with r_ij < (κh_i + κh_j)/2, given the exact
+    /// positions and half reaches κh/2 of all particles.
+    fn collect_within(
+        &mut self,
+        i: u32,
+        positions: &[Vector<D>],
+        half_reaches: &[f64],
+        out: &mut Vec<u32>,
+    ) {
+        let n = self.index.len();
+        let (xi, half_reach_i) = (positions[i as usize], half_reaches[i as usize]);
         let centre: [f32; D] = std::array::from_fn(|a| (xi[a] - self.origin[a]) as f32);
         let widen = (1.0 + FILTER_SLACK) * (1.0 + FILTER_SLACK);
         let hr_i = half_reach_i as f32;
@@ -338,10 +329,10 @@ impl<const D: usize> CandidateBuffer<D> {
             count += usize::from(near);
         }
         for &k in &self.hits[..count] {
-            let c = &self.exact[k as usize];
-            let reach = half_reach_i + c.half_reach;
-            if c.index != i && (c.position - xi).norm_squared() < reach * reach {
-                out.push(c.index);
+            let j = self.index[k as usize];
+            let reach = half_reach_i + half_reaches[j as usize];
+            if j != i && (positions[j as usize] - xi).norm_squared() < reach * reach {
+                out.push(j);
             }
         }
     }
