@@ -162,10 +162,10 @@ fn density_at<const D: usize>(
     kernel: &Kernel<D>,
 ) -> f64 {
     let me = &sources[i];
-    neighbours.of(i).iter().fold(
+    neighbours.of(i).fold(
         me.mass * kernel.value(0.0, me.smoothing_length),
-        |rho, &j| {
-            let other = &sources[j as usize];
+        |rho, j| {
+            let other = &sources[j];
             let r = (me.position - other.position).norm();
             let h = 0.5 * (me.smoothing_length + other.smoothing_length);
             rho + other.mass * kernel.value(r, h)
@@ -273,36 +273,40 @@ fn rates_at<const D: usize>(
         signal_speed: me.sound_speed,
         wall_force: Vector::zeros(),
     };
-    for &j in neighbours.of(i) {
-        let other = &sources[j as usize];
-        let dx = me.position - other.position;
-        let r2 = dx.norm_squared();
-        if r2 == 0.0 {
-            continue; // coincident particles: ∇W = 0 by symmetry
-        }
-        let r = r2.sqrt();
-        let inv_r = 1.0 / r;
-        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        let grad = dx * (terms.kernel.derivative(r, h) * inv_r);
-        let v_ij = me.velocity - other.velocity;
-        let v_dot_x = v_ij.dot(&dx);
-        let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
-        let rho_mean = 0.5 * (me.density + other.density);
-        let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean);
-        let m_j = other.mass;
-        let coefficient = m_j * (me.pressure_over_rho2 + other.pressure_over_rho2 + pi_ij);
-        let v_dot_grad = v_ij.dot(&grad);
-        let force = grad * (-coefficient);
-        out.acceleration += force;
-        out.energy_rate += match terms.energy {
-            EnergyEquation::OwnPressure => m_j * (me.pressure_over_rho2 + 0.5 * pi_ij) * v_dot_grad,
-            EnergyEquation::Symmetric => 0.5 * coefficient * v_dot_grad,
-        };
-        out.density_rate += m_j * v_dot_grad;
-        let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_x * inv_r);
-        out.signal_speed = out.signal_speed.max(v_sig);
-        if other.is_wall {
-            out.wall_force += force * me.mass;
+    for part in neighbours.parts(i) {
+        for &j in part {
+            let other = &sources[j as usize];
+            let dx = me.position - other.position;
+            let r2 = dx.norm_squared();
+            if r2 == 0.0 {
+                continue; // coincident particles: ∇W = 0 by symmetry
+            }
+            let r = r2.sqrt();
+            let inv_r = 1.0 / r;
+            let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+            let grad = dx * (terms.kernel.derivative(r, h) * inv_r);
+            let v_ij = me.velocity - other.velocity;
+            let v_dot_x = v_ij.dot(&dx);
+            let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
+            let rho_mean = 0.5 * (me.density + other.density);
+            let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean);
+            let m_j = other.mass;
+            let coefficient = m_j * (me.pressure_over_rho2 + other.pressure_over_rho2 + pi_ij);
+            let v_dot_grad = v_ij.dot(&grad);
+            let force = grad * (-coefficient);
+            out.acceleration += force;
+            out.energy_rate += match terms.energy {
+                EnergyEquation::OwnPressure => {
+                    m_j * (me.pressure_over_rho2 + 0.5 * pi_ij) * v_dot_grad
+                }
+                EnergyEquation::Symmetric => 0.5 * coefficient * v_dot_grad,
+            };
+            out.density_rate += m_j * v_dot_grad;
+            let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_x * inv_r);
+            out.signal_speed = out.signal_speed.max(v_sig);
+            if other.is_wall {
+                out.wall_force += force * me.mass;
+            }
         }
     }
     out
