@@ -4,6 +4,9 @@
 //! Order of operations in one step (see [`step`]): kick → drift → images → neighbours →
 //! density → equation of state → forces → kick → health check.
 
+// `!(x >= limit)` is used on purpose: unlike `x < limit` it is also true for a NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod boundary;
 pub mod eos;
 pub mod error;

@@ -268,7 +268,9 @@ fn owned_lists<const D: usize>(
     let n_cells = grid.cell_start.len() - 1;
     // Work by cell: the particles in the box of cells the cell's members can reach are
     // gathered once into a contiguous buffer and tested against every member in a tight loop.
-    let tasks: Vec<(Vec<(u32, u32)>, Vec<u32>)> = (0..n_cells.div_ceil(CELLS_PER_TASK))
+    // per task: (particle, start of its list) in visiting order, and the lists end to end
+    type TaskLists = (Vec<(u32, u32)>, Vec<u32>);
+    let tasks: Vec<TaskLists> = (0..n_cells.div_ceil(CELLS_PER_TASK))
         .into_par_iter()
         .map(|task| {
             let mut found: Vec<(u32, u32)> = Vec::new();

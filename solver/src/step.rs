@@ -259,7 +259,7 @@ impl<const D: usize> Simulation<D> {
     fn reorder_for_locality(&mut self) {
         let p = &mut self.particles;
         p.clear_images();
-        if self.steps % REORDER_INTERVAL != 0 {
+        if !self.steps.is_multiple_of(REORDER_INTERVAL) {
             return;
         }
         let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
