@@ -97,16 +97,23 @@ fn main() -> ExitCode {
     }
 }
 
+/// Prints the problems and their parameters; stops quietly if stdout closes (`| head`).
 fn print_problem_list() {
-    for p in problems::all() {
-        println!("{:22} {}", p.name, p.summary);
-        for spec in &p.params {
-            println!(
-                "    {:10} quick={:16} full={:16} {}",
-                spec.key, spec.quick, spec.full, spec.help
-            );
-        }
-    }
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = problems::all()
+        .iter()
+        .try_for_each(|p| -> std::io::Result<()> {
+            writeln!(out, "{:22} {}", p.name, p.summary)?;
+            for spec in &p.params {
+                writeln!(
+                    out,
+                    "    {:10} quick={:16} full={:16} {}",
+                    spec.key, spec.quick, spec.full, spec.help
+                )?;
+            }
+            Ok(())
+        });
 }
 
 /// Runs the problems; Ok(true) when every check passed.
