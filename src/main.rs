@@ -3,6 +3,7 @@
 
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
+use blastsph_verification::sedov::{Geometry, SedovBlast};
 use blastsph_verification::{problems, report, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -48,6 +49,26 @@ enum Command {
         #[arg(long)]
         list: bool,
     },
+    /// The exact Sedov–Taylor blast: shock radius, post-shock state, similarity constant.
+    Sedov {
+        /// planar, cylindrical or spherical.
+        #[arg(long, default_value = "spherical")]
+        geometry: String,
+        #[arg(long, default_value_t = 1.4, allow_negative_numbers = true)]
+        gamma: f64,
+        /// Blast energy E (J; per unit length in cylindrical, per unit area on one side of the
+        /// plane in planar geometry).
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        energy: f64,
+        /// Background density (kg/m³, or the matching per-length/area unit).
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        rho0: f64,
+        /// Time after the release (s).
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        time: f64,
+        #[arg(long)]
+        json: bool,
+    },
     /// Solve a Riemann problem of the ideal gas exactly and print the star state.
     Riemann {
         /// Left state ρ,u,p (SI).
@@ -80,6 +101,14 @@ fn main() -> ExitCode {
             }
             verify(problems, level, out, threads, set)
         }
+        Command::Sedov {
+            geometry,
+            gamma,
+            energy,
+            rho0,
+            time,
+            json,
+        } => sedov_command(&geometry, gamma, energy, rho0, time, json).map(|_| true),
         Command::Riemann {
             left,
             right,
@@ -217,6 +246,32 @@ fn verify(
     }
     println!("outputs in {}", out.display());
     Ok(all_pass)
+}
+
+fn sedov_command(
+    geometry: &str,
+    gamma: f64,
+    energy: f64,
+    rho0: f64,
+    time: f64,
+    json: bool,
+) -> Result<(), VerifyError> {
+    let geometry = Geometry::from_name(geometry).ok_or_else(|| {
+        VerifyError::bad_value("--geometry", geometry, "planar, cylindrical or spherical")
+    })?;
+    let blast = SedovBlast::new(geometry, gamma, energy, rho0, time)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&blast).expect("json"));
+    } else {
+        println!("xi0            = {:.6}", blast.xi0);
+        println!("energy integral= {:.6}", blast.energy_integral);
+        println!("r_shock        = {:.6e}", blast.r_shock);
+        println!("rho2           = {:.6e}", blast.rho2);
+        println!("u2             = {:.6e}", blast.u2);
+        println!("p2             = {:.6e}", blast.p2);
+        println!("e2             = {:.6e}", blast.e2);
+    }
+    Ok(())
 }
 
 fn parse_state(side: &str, text: &str) -> Result<GasState, VerifyError> {

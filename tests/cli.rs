@@ -172,3 +172,43 @@ fn riemann_rejects_non_physical_states_by_name() {
         assert!(stderr(&out).contains(field), "{}", stderr(&out));
     }
 }
+
+#[test]
+fn sedov_prints_the_classic_spherical_constant() {
+    let out = blastsph(&[
+        "sedov",
+        "--geometry",
+        "spherical",
+        "--gamma",
+        "1.4",
+        "--energy",
+        "1",
+        "--rho0",
+        "1",
+        "--time",
+        "1",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for field in ["xi0", "r_shock", "rho2", "u2", "p2"] {
+        assert!(json[field].is_number(), "missing {field}");
+    }
+    // Sedov (1959) and Taylor (1950): ξ0 = 1.033 for γ = 1.4, printed to three decimals
+    assert!((json["xi0"].as_f64().unwrap() - 1.033).abs() < 5e-4);
+    // strong-shock jump: ρ2 = (γ + 1)/(γ − 1) ρ0
+    assert!((json["rho2"].as_f64().unwrap() - 6.0).abs() < 1e-12);
+}
+
+#[test]
+fn sedov_rejects_bad_input_by_name() {
+    for (args, field) in [
+        (vec!["sedov", "--geometry", "conical"], "--geometry"),
+        (vec!["sedov", "--energy", "-1"], "energy"),
+        (vec!["sedov", "--gamma", "1"], "gamma"),
+    ] {
+        let out = blastsph(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(field), "{}", stderr(&out));
+    }
+}

@@ -11,6 +11,7 @@ pub mod problems;
 pub mod record;
 pub mod report;
 pub mod riemann;
+pub mod sedov;
 pub mod svg;
 
 use thiserror::Error;
