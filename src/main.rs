@@ -191,6 +191,7 @@ fn verify(
         "problem", "particles", "steps", "wall s", "main errors", "observed order"
     );
     let mut all_pass = true;
+    let mut records = Vec::new();
     for name in &names {
         let bar = ProgressBar::new(1000).with_message(name.clone());
         bar.set_style(
@@ -243,8 +244,13 @@ fn verify(
             }
         }
         all_pass &= r.pass;
+        records.push(output.record);
     }
-    println!("outputs in {}", out.display());
+    report::write_work_precision(&out, &records)?;
+    println!(
+        "outputs in {} (and work-precision.svg, .csv)",
+        out.display()
+    );
     Ok(all_pass)
 }
 

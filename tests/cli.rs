@@ -70,6 +70,37 @@ fn verify_writes_json_csv_and_svg_with_the_promised_fields() {
     assert!(leftovers.is_empty());
 }
 
+/// Every verify run also writes the work–precision table and plot of the problems it ran.
+#[test]
+fn verify_writes_the_work_precision_table() {
+    let dir = scratch("verify-work-precision");
+    let out = blastsph(&[
+        "verify",
+        "toro-1",
+        "--set",
+        "n_left=50,100",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.code().is_some_and(|c| c == 0 || c == 1),
+        "{}",
+        stderr(&out)
+    );
+    let csv = std::fs::read_to_string(dir.join("work-precision.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("problem,run,n_particles,steps,wall_s,l1_rho")
+    );
+    assert_eq!(
+        lines.filter(|l| l.starts_with("toro-1,")).count(),
+        2,
+        "one row per resolution"
+    );
+    assert!(dir.join("work-precision.svg").exists());
+}
+
 #[test]
 fn set_overrides_are_recorded() {
     let dir = scratch("verify-set");

@@ -2,7 +2,8 @@
 //! written under a temporary name and renamed into place, so a file with the final name is
 //! always complete.
 
-use crate::record::{ProblemOutput, Table};
+use crate::record::{ProblemOutput, Record, Table};
+use crate::svg::{Figure, Panel, Series, Style};
 use crate::VerifyError;
 use std::path::{Path, PathBuf};
 
@@ -50,6 +51,79 @@ pub fn write_outputs(dir: &Path, output: &ProblemOutput) -> Result<Vec<PathBuf>,
         (format!("{stem}.svg"), output.figure.to_svg().into_bytes()),
         // the JSON last: its presence says the others are there too
         (format!("{stem}.json"), json),
+    ];
+    let mut paths = Vec::new();
+    for (name, bytes) in files {
+        let path = dir.join(name);
+        write_atomic(&path, &bytes)?;
+        paths.push(path);
+    }
+    Ok(paths)
+}
+
+/// The error a work–precision plot shows for a problem, if it has one.
+const WORK_PRECISION_ERROR: &str = "l1_rho";
+
+/// Work against precision over several problems: the L1 density error of every completed run
+/// against its wall time, one series per problem (log10 on both axes), as SVG and CSV.
+pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBuf>, VerifyError> {
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    csv.write_record([
+        "problem",
+        "run",
+        "n_particles",
+        "steps",
+        "wall_s",
+        WORK_PRECISION_ERROR,
+    ])
+    .expect("writing to memory");
+    let mut panel = Panel {
+        title: format!(
+            "L1 density error against wall time ({} cores)",
+            rayon::current_num_threads()
+        ),
+        x_label: "log10 wall time (s)".into(),
+        y_label: format!("log10 {WORK_PRECISION_ERROR}"),
+        series: Vec::new(),
+    };
+    for record in records {
+        let mut points = Vec::new();
+        for run in record.runs.iter().filter(|r| r.failure.is_none()) {
+            let Some(&error) = run.errors.get(WORK_PRECISION_ERROR) else {
+                continue;
+            };
+            csv.write_record([
+                record.problem.clone(),
+                run.label.clone(),
+                run.n_particles.to_string(),
+                run.steps.to_string(),
+                format!("{:e}", run.wall_s),
+                format!("{error:e}"),
+            ])
+            .expect("writing to memory");
+            if run.wall_s > 0.0 && error > 0.0 {
+                points.push((run.wall_s.log10(), error.log10()));
+            }
+        }
+        if !points.is_empty() {
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            panel.series.push(Series {
+                label: record.problem.clone(),
+                points,
+                style: Style::LineMarkers,
+            });
+        }
+    }
+    let figure = Figure {
+        title: "work–precision".into(),
+        panels: vec![panel],
+    };
+    let files = [
+        (
+            "work-precision.csv",
+            csv.into_inner().expect("writing to memory"),
+        ),
+        ("work-precision.svg", figure.to_svg().into_bytes()),
     ];
     let mut paths = Vec::new();
     for (name, bytes) in files {

@@ -6,6 +6,8 @@ use std::fmt::Write;
 pub enum Style {
     Line,
     Markers,
+    /// Markers joined by a line (a convergence or work–precision series).
+    LineMarkers,
 }
 
 #[derive(Clone, Debug)]
@@ -173,26 +175,25 @@ impl Panel {
                 .points
                 .iter()
                 .filter(|(x, y)| x.is_finite() && y.is_finite());
-            match series.style {
-                Style::Line => {
-                    let path: Vec<String> = finite
-                        .map(|&(x, y)| format!("{:.2},{:.2}", px(x), py(y)))
-                        .collect();
+            if matches!(series.style, Style::Line | Style::LineMarkers) {
+                let path: Vec<String> = finite
+                    .clone()
+                    .map(|&(x, y)| format!("{:.2},{:.2}", px(x), py(y)))
+                    .collect();
+                let _ = writeln!(
+                    s,
+                    r#"<polyline fill="none" stroke="{colour}" stroke-width="1.5" points="{}"/>"#,
+                    path.join(" ")
+                );
+            }
+            if matches!(series.style, Style::Markers | Style::LineMarkers) {
+                for &(x, y) in finite {
                     let _ = writeln!(
                         s,
-                        r#"<polyline fill="none" stroke="{colour}" stroke-width="1.5" points="{}"/>"#,
-                        path.join(" ")
+                        r#"<circle cx="{:.2}" cy="{:.2}" r="2.5" fill="none" stroke="{colour}"/>"#,
+                        px(x),
+                        py(y)
                     );
-                }
-                Style::Markers => {
-                    for &(x, y) in finite {
-                        let _ = writeln!(
-                            s,
-                            r#"<circle cx="{:.2}" cy="{:.2}" r="2" fill="none" stroke="{colour}"/>"#,
-                            px(x),
-                            py(y)
-                        );
-                    }
                 }
             }
             legend.push((colour, series.label.as_str()));
