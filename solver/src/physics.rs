@@ -73,6 +73,10 @@ pub struct ArtificialViscosity {
     pub alpha: f64,
     pub beta: f64,
     pub eta2: f64,
+    /// Artificial conductivity α_u (Price 2008, eq. 28): diffuses internal energy where the
+    /// pressure jumps, which removes the pressure blip ("wall heating") a contact leaves behind
+    /// a shock; 0 switches it off.
+    pub alpha_u: f64,
 }
 
 impl Default for ArtificialViscosity {
@@ -81,13 +85,18 @@ impl Default for ArtificialViscosity {
             alpha: 1.0,
             beta: 2.0,
             eta2: 0.01,
+            alpha_u: 0.0,
         }
     }
 }
 
 impl ArtificialViscosity {
     pub fn validate(&self) -> Result<(), SolverError> {
-        for (field, value) in [("alpha", self.alpha), ("beta", self.beta)] {
+        for (field, value) in [
+            ("alpha", self.alpha),
+            ("beta", self.beta),
+            ("alpha_u", self.alpha_u),
+        ] {
             if !(0.0..=10.0).contains(&value) {
                 return Err(SolverError::invalid(field, value, "0 ≤ value ≤ 10"));
             }
@@ -107,6 +116,16 @@ impl ArtificialViscosity {
         let t = h * v_dot_x.min(0.0);
         let d = r2 + self.eta2 * h * h;
         t * (self.beta * t - self.alpha * c_mean * d) / (d * d * rho_mean)
+    }
+}
+
+impl ArtificialViscosity {
+    /// The conductive heating of i by j divided by m_j dW/dr (Price 2008, eq. 28):
+    /// α_u v_sig,u (u_i − u_j)/ρ̄ with v_sig,u = √(|p_i − p_j|/ρ̄). Antisymmetric in i, j, so
+    /// it moves energy between particles without creating any.
+    #[inline]
+    pub fn conduction(&self, u_i: f64, u_j: f64, p_i: f64, p_j: f64, rho_mean: f64) -> f64 {
+        self.alpha_u * ((p_i - p_j).abs() / rho_mean).sqrt() * (u_i - u_j) / rho_mean
     }
 }
 
@@ -183,6 +202,8 @@ struct RateSource<const D: usize> {
     mass: f64,
     density: f64,
     sound_speed: f64,
+    pressure: f64,
+    internal_energy: f64,
     /// p/ρ², computed once so that the pair term P_i + P_j is the same floating-point number
     /// seen from i and from j.
     pressure_over_rho2: f64,
@@ -236,6 +257,8 @@ pub fn compute_rates<const D: usize>(
             mass: p.mass[k],
             density: p.density[k],
             sound_speed: p.sound_speed[k],
+            pressure: p.pressure[k],
+            internal_energy: p.internal_energy[k],
             pressure_over_rho2: pressure_term(p.pressure[k], p.density[k], 0.0, 1.0),
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
         })
@@ -284,7 +307,8 @@ fn rates_at<const D: usize>(
             let r = r2.sqrt();
             let inv_r = 1.0 / r;
             let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-            let grad = dx * (terms.kernel.derivative(r, h) * inv_r);
+            let dw_dr = terms.kernel.derivative(r, h);
+            let grad = dx * (dw_dr * inv_r);
             let v_ij = me.velocity - other.velocity;
             let v_dot_x = v_ij.dot(&dx);
             let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
@@ -301,6 +325,15 @@ fn rates_at<const D: usize>(
                 }
                 EnergyEquation::Symmetric => 0.5 * coefficient * v_dot_grad,
             };
+            out.energy_rate += m_j
+                * dw_dr
+                * terms.viscosity.conduction(
+                    me.internal_energy,
+                    other.internal_energy,
+                    me.pressure,
+                    other.pressure,
+                    rho_mean,
+                );
             out.density_rate += m_j * v_dot_grad;
             let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_x * inv_r);
             out.signal_speed = out.signal_speed.max(v_sig);
