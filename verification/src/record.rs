@@ -53,6 +53,8 @@ pub struct Run {
     pub errors: BTreeMap<String, f64>,
     /// Conservation and positivity figures.
     pub metrics: BTreeMap<String, f64>,
+    /// Wall seconds per phase of the steps (neighbours, density, forces, integration).
+    pub phase_s: BTreeMap<String, f64>,
     /// The solver's diagnosis if the run stopped early.
     pub failure: Option<String>,
 }
@@ -70,6 +72,19 @@ pub struct Record {
     pub wall_s: f64,
     /// The run a one-line summary shows (the finest resolution, or the thesis' case).
     pub headline_run: usize,
+}
+
+/// The phase timings of a simulation as a name → seconds map.
+pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f64> {
+    [
+        ("neighbours", times.neighbours),
+        ("density", times.density),
+        ("forces", times.forces),
+        ("integration", times.integration),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
 }
 
 impl Record {

@@ -139,6 +139,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             spacing: 1.0,
             errors,
             metrics: BTreeMap::new(),
+            phase_s: BTreeMap::new(),
             failure: None,
         });
         columns.push(format!("standard_h{h}"));

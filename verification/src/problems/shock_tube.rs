@@ -11,7 +11,7 @@
 
 use crate::norms::{l1_error, observed_order};
 use crate::params::{ParamSpec, Params};
-use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::riemann::{self, GasState, RiemannSolution};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
@@ -332,6 +332,7 @@ fn run_tube(
                     .map(|f| (format!("l1_{f}"), f64::NAN))
                     .collect(),
                 metrics: BTreeMap::new(),
+                phase_s: BTreeMap::new(),
                 failure: Some(diagnosis.to_string()),
             };
             return Ok(TubeRun { run, profile: None });
@@ -394,6 +395,7 @@ fn run_tube(
             .map(|f| (format!("l1_{f}"), f64::NAN))
             .collect(),
         metrics,
+        phase_s: phase_seconds(&sim.phase_times()),
         failure: None,
     };
     if let Err(e) = outcome {
