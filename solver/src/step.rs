@@ -96,7 +96,7 @@ pub struct PhaseTimes {
     pub density: f64,
     /// Momentum, energy and density rates.
     pub forces: f64,
-    /// Kicks, drift, time step and health check.
+    /// Kicks, drift and the health check.
     pub integration: f64,
 }
 
