@@ -14,6 +14,20 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Runs `verify` with `args` into `dir`; the run must end with 0 (pass) or 1 (a check failed),
+/// not with a crash or bad input.
+fn verify_into(dir: &Path, args: &[&str]) {
+    let mut all = vec!["verify"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", dir.to_str().unwrap()]);
+    let out = blastsph(&all);
+    assert!(
+        out.status.code().is_some_and(|c| c == 0 || c == 1),
+        "{}",
+        stderr(&out)
+    );
+}
+
 /// A fresh empty folder under the target directory (no temp-dir crate needed).
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -74,19 +88,7 @@ fn verify_writes_json_csv_and_svg_with_the_promised_fields() {
 #[test]
 fn verify_writes_the_work_precision_table() {
     let dir = scratch("verify-work-precision");
-    let out = blastsph(&[
-        "verify",
-        "toro-1",
-        "--set",
-        "n_left=50,100",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.code().is_some_and(|c| c == 0 || c == 1),
-        "{}",
-        stderr(&out)
-    );
+    verify_into(&dir, &["toro-1", "--set", "n_left=50,100"]);
     let csv = std::fs::read_to_string(dir.join("work-precision.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(
@@ -104,20 +106,9 @@ fn verify_writes_the_work_precision_table() {
 #[test]
 fn set_overrides_are_recorded() {
     let dir = scratch("verify-set");
-    let out = blastsph(&[
-        "verify",
-        "toro-1",
-        "--set",
-        "n_left=60",
-        "--set",
-        "t_end=0.1",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.code().is_some_and(|c| c == 0 || c == 1),
-        "{}",
-        stderr(&out)
+    verify_into(
+        &dir,
+        &["toro-1", "--set", "n_left=60", "--set", "t_end=0.1"],
     );
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("toro-1.json")).unwrap()).unwrap();

@@ -38,6 +38,20 @@ pub fn table_to_csv(table: &Table) -> Vec<u8> {
     writer.into_inner().expect("writing to memory")
 }
 
+/// Writes each (name, bytes) into `dir` atomically, in order; returns the paths.
+fn write_files<N: AsRef<str>>(
+    dir: &Path,
+    files: impl IntoIterator<Item = (N, Vec<u8>)>,
+) -> Result<Vec<PathBuf>, VerifyError> {
+    files
+        .into_iter()
+        .map(|(name, bytes)| {
+            let path = dir.join(name.as_ref());
+            write_atomic(&path, &bytes).map(|_| path)
+        })
+        .collect()
+}
+
 /// Writes JSON, CSV and SVG of one problem into `dir` (created if missing); returns the paths.
 pub fn write_outputs(dir: &Path, output: &ProblemOutput) -> Result<Vec<PathBuf>, VerifyError> {
     std::fs::create_dir_all(dir).map_err(|source| VerifyError::Io {
@@ -52,13 +66,7 @@ pub fn write_outputs(dir: &Path, output: &ProblemOutput) -> Result<Vec<PathBuf>,
         // the JSON last: its presence says the others are there too
         (format!("{stem}.json"), json),
     ];
-    let mut paths = Vec::new();
-    for (name, bytes) in files {
-        let path = dir.join(name);
-        write_atomic(&path, &bytes)?;
-        paths.push(path);
-    }
-    Ok(paths)
+    write_files(dir, files)
 }
 
 /// The error a work–precision plot shows for a problem, if it has one.
@@ -125,11 +133,5 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
         ),
         ("work-precision.svg", figure.to_svg().into_bytes()),
     ];
-    let mut paths = Vec::new();
-    for (name, bytes) in files {
-        let path = dir.join(name);
-        write_atomic(&path, &bytes)?;
-        paths.push(path);
-    }
-    Ok(paths)
+    write_files(dir, files)
 }
