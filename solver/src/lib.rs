@@ -18,7 +18,7 @@ pub mod physics;
 pub mod step;
 
 pub use boundary::{Boundary, Domain};
-pub use eos::{EquationOfState, IdealGas, Material};
+pub use eos::{EquationOfState, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
 pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
