@@ -44,10 +44,6 @@ impl KernelShape {
         }
     }
 
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|s| s.name() == name)
-    }
-
     /// Support radius in units of h.
     pub fn support(self) -> f64 {
         match self {

@@ -24,17 +24,13 @@ pub enum DensityMethod {
 }
 
 impl DensityMethod {
+    pub const ALL: [DensityMethod; 2] = [DensityMethod::Summation, DensityMethod::Continuity];
+
     pub fn name(self) -> &'static str {
         match self {
             DensityMethod::Summation => "summation",
             DensityMethod::Continuity => "continuity",
         }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        [DensityMethod::Summation, DensityMethod::Continuity]
-            .into_iter()
-            .find(|m| m.name() == name)
     }
 }
 
@@ -53,6 +49,8 @@ pub enum EnergyEquation {
 }
 
 impl EnergyEquation {
+    pub const ALL: [EnergyEquation; 2] = [EnergyEquation::OwnPressure, EnergyEquation::Symmetric];
+
     pub fn name(self) -> &'static str {
         match self {
             EnergyEquation::OwnPressure => "own-pressure",

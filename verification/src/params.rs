@@ -134,29 +134,21 @@ impl Params {
         Ok(list)
     }
 
-    /// One of the given words.
-    pub fn choice<T>(&self, key: &str, options: &[(&str, T)]) -> Result<T, VerifyError>
-    where
-        T: Copy,
-    {
+    /// One of `options`, named by `name`.
+    pub fn choice<T: Copy>(
+        &self,
+        key: &str,
+        options: &[T],
+        name: impl Fn(T) -> &'static str,
+    ) -> Result<T, VerifyError> {
         let raw = self.raw(key).trim();
         options
             .iter()
-            .find(|(name, _)| *name == raw)
-            .map(|(_, v)| *v)
+            .copied()
+            .find(|&o| name(o) == raw)
             .ok_or_else(|| {
-                VerifyError::bad_value(
-                    key,
-                    raw,
-                    &format!(
-                        "one of {}",
-                        options
-                            .iter()
-                            .map(|(n, _)| *n)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                )
+                let names: Vec<&str> = options.iter().map(|&o| name(o)).collect();
+                VerifyError::bad_value(key, raw, &format!("one of {}", names.join(", ")))
             })
     }
 }

@@ -38,9 +38,7 @@ pub fn info() -> super::ProblemInfo {
 }
 
 pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
-    let shapes: Vec<(&str, KernelShape)> =
-        KernelShape::ALL.iter().map(|s| (s.name(), *s)).collect();
-    let kernel = Kernel::<1>::new(params.choice("kernel", &shapes)?);
+    let kernel = Kernel::<1>::new(params.choice("kernel", &KernelShape::ALL, KernelShape::name)?);
     let data_x: Vec<Vector<1>> = (1..=8).map(|k| Vector::<1>::new(k as f64)).collect();
     let volume = vec![1.0; data_x.len()];
     let ones = vec![1.0; data_x.len()];

@@ -144,30 +144,16 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
     let mut case = case_of(name);
     let gamma = params.number("gamma", 1.0 + 1e-9, 10.0)?;
     let t_end = params.number("t_end", 1e-9, 10.0)?;
-    let shapes: Vec<(&str, KernelShape)> =
-        KernelShape::ALL.iter().map(|s| (s.name(), *s)).collect();
     let config = SimulationConfig {
-        kernel: params.choice("kernel", &shapes)?,
-        density: params.choice(
-            "density",
-            &[
-                ("summation", DensityMethod::Summation),
-                ("continuity", DensityMethod::Continuity),
-            ],
-        )?,
+        kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
+        density: params.choice("density", &DensityMethod::ALL, DensityMethod::name)?,
         viscosity: ArtificialViscosity {
             alpha: params.number("alpha", 0.0, 10.0)?,
             beta: params.number("beta", 0.0, 10.0)?,
             alpha_u: params.number("alpha_u", 0.0, 10.0)?,
             ..ArtificialViscosity::default()
         },
-        energy: params.choice(
-            "energy",
-            &[
-                ("own-pressure", EnergyEquation::OwnPressure),
-                ("symmetric", EnergyEquation::Symmetric),
-            ],
-        )?,
+        energy: params.choice("energy", &EnergyEquation::ALL, EnergyEquation::name)?,
         smoothing: SmoothingLength::FollowDensity {
             eta: params.number("eta", 0.5, 4.0)?,
         },
