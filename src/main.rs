@@ -1,6 +1,7 @@
 //! `blastsph`: the command line. It parses, shows progress, prints tables and writes files; the
 //! work is done by `blastsph-verification` and `blastsph-solver`.
 
+use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
 use blastsph_verification::sedov::{Geometry, SedovBlast};
@@ -69,6 +70,11 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// List the material library: models, parameters, their sources and status.
+    Materials {
+        #[arg(long)]
+        json: bool,
+    },
     /// Solve a Riemann problem of the ideal gas exactly and print the star state.
     Riemann {
         /// Left state ρ,u,p (SI).
@@ -109,6 +115,10 @@ fn main() -> ExitCode {
             time,
             json,
         } => sedov_command(&geometry, gamma, energy, rho0, time, json).map(|_| true),
+        Command::Materials { json } => {
+            materials_command(json);
+            Ok(true)
+        }
         Command::Riemann {
             left,
             right,
@@ -126,23 +136,21 @@ fn main() -> ExitCode {
     }
 }
 
-/// Prints the problems and their parameters; stops quietly if stdout closes (`| head`).
+/// Prints the problems and their parameters.
 fn print_problem_list() {
-    use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    let _ = problems::all()
-        .iter()
-        .try_for_each(|p| -> std::io::Result<()> {
-            writeln!(out, "{:22} {}", p.name, p.summary)?;
-            for spec in &p.params {
-                writeln!(
-                    out,
-                    "    {:10} quick={:16} full={:16} {}",
-                    spec.key, spec.quick, spec.full, spec.help
-                )?;
-            }
-            Ok(())
-        });
+    use std::fmt::Write;
+    let mut text = String::new();
+    for p in problems::all() {
+        let _ = writeln!(text, "{:22} {}", p.name, p.summary);
+        for spec in &p.params {
+            let _ = writeln!(
+                text,
+                "    {:10} quick={:16} full={:16} {}",
+                spec.key, spec.quick, spec.full, spec.help
+            );
+        }
+    }
+    emit(&text);
 }
 
 /// Runs the problems; Ok(true) when every check passed.
@@ -252,6 +260,33 @@ fn verify(
         out.display()
     );
     Ok(all_pass)
+}
+
+fn materials_command(json: bool) {
+    use std::fmt::Write;
+    let library = Library::standard();
+    let mut text = String::new();
+    if json {
+        text = serde_json::to_string_pretty(&library).expect("json") + "\n";
+    } else {
+        for (name, entry) in &library.materials {
+            let _ = writeln!(text, "{name:12} {:15} {}", entry.model, entry.description);
+            for (key, p) in &entry.parameters {
+                let _ = writeln!(
+                    text,
+                    "    {key:8} {:>12e} {:8} {:20} {}",
+                    p.value, p.unit, p.status, p.source
+                );
+            }
+        }
+    }
+    emit(&text);
+}
+
+/// Writes to stdout, stopping quietly if the reader has gone (`| head`).
+fn emit(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }
 
 fn sedov_command(

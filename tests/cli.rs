@@ -234,3 +234,30 @@ fn sedov_rejects_bad_input_by_name() {
         assert!(stderr(&out).contains(field), "{}", stderr(&out));
     }
 }
+
+#[test]
+fn materials_lists_the_library_with_sources() {
+    let out = blastsph(&["materials", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let materials = json["materials"].as_object().unwrap();
+    for name in [
+        "air",
+        "tnt",
+        "water",
+        "al-6061",
+        "cu-ofhc",
+        "steel-4340",
+        "pmma",
+        "tungsten",
+    ] {
+        let m = &materials[name];
+        assert!(m["model"].is_string(), "{name}");
+        for (key, p) in m["parameters"].as_object().unwrap() {
+            assert!(
+                p["value"].is_number() && p["source"].is_string() && p["status"].is_string(),
+                "{name}.{key}"
+            );
+        }
+    }
+}

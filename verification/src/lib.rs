@@ -5,6 +5,7 @@
 //! returns a [`record::Record`] with profiles and a plot. `blastsph verify` and `cargo test`
 //! both call [`problems::run`], so the tests exercise exactly what the CLI runs.
 
+pub mod materials;
 pub mod norms;
 pub mod params;
 pub mod problems;
@@ -42,6 +43,14 @@ pub enum VerifyError {
         problem: String,
         key: String,
         available: String,
+    },
+    #[error("unknown material '{name}'; available: {available}")]
+    UnknownMaterial { name: String, available: String },
+    #[error("material {material} ({model}) lacks parameter {parameter}")]
+    MissingParameter {
+        material: String,
+        model: String,
+        parameter: String,
     },
     #[error("invalid {field} = {value}: allowed {allowed}")]
     BadValue {

@@ -1,0 +1,240 @@
+//! The material library, `reference_data/materials.toml`: named materials, each with its model
+//! and every parameter's value, unit, source and status. Scenes ask for materials by name and
+//! get a solver `Material`; an unknown name or a missing parameter is an error naming it.
+
+use crate::VerifyError;
+use blastsph_solver::{IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+const LIBRARY: &str = include_str!("../../reference_data/materials.toml");
+
+/// One parameter with its provenance.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+pub struct Parameter {
+    pub value: f64,
+    pub unit: String,
+    pub source: String,
+    pub status: String,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+pub struct MaterialEntry {
+    pub model: String,
+    pub description: String,
+    pub parameters: BTreeMap<String, Parameter>,
+}
+
+/// The materials of `reference_data/materials.toml`, by name.
+#[derive(Clone, Debug, Serialize)]
+pub struct Library {
+    pub materials: BTreeMap<String, MaterialEntry>,
+}
+
+impl Library {
+    /// The library shipped with the code (its parsing is tested, so it cannot fail at run time).
+    pub fn standard() -> Self {
+        Self {
+            materials: toml::from_str(LIBRARY).expect("reference_data/materials.toml parses"),
+        }
+    }
+
+    pub fn names(&self) -> Vec<&str> {
+        self.materials.keys().map(String::as_str).collect()
+    }
+
+    pub fn entry(&self, name: &str) -> Result<&MaterialEntry, VerifyError> {
+        self.materials
+            .get(name)
+            .ok_or_else(|| VerifyError::UnknownMaterial {
+                name: name.to_string(),
+                available: self.names().join(", "),
+            })
+    }
+
+    /// The solver material `name`: its equation of state built from the library's parameters.
+    pub fn material(&self, name: &str) -> Result<Material, VerifyError> {
+        let entry = self.entry(name)?;
+        let get = |parameter: &str| {
+            entry
+                .parameters
+                .get(parameter)
+                .map(|p| p.value)
+                .ok_or_else(|| VerifyError::MissingParameter {
+                    material: name.to_string(),
+                    model: entry.model.clone(),
+                    parameter: parameter.to_string(),
+                })
+        };
+        let optional = |parameter: &str, default: f64| {
+            entry.parameters.get(parameter).map_or(default, |p| p.value)
+        };
+        let material = match entry.model.as_str() {
+            "ideal-gas" => Material::new(name, IdealGas::new(get("gamma")?)?),
+            "jwl" => Material::new(
+                name,
+                Jwl::new(
+                    get("rho0")?,
+                    get("a")?,
+                    get("b")?,
+                    get("r1")?,
+                    get("r2")?,
+                    get("omega")?,
+                )?,
+            ),
+            "stiffened-gas" => Material::new(
+                name,
+                StiffenedGas::new(get("gamma")?, get("p_inf")?, get("p_min")?)?,
+            ),
+            "mie-gruneisen" => Material::new(
+                name,
+                MieGruneisen::steinberg(
+                    get("rho0")?,
+                    get("c0")?,
+                    get("s1")?,
+                    optional("s2", 0.0),
+                    optional("s3", 0.0),
+                    get("gamma0")?,
+                    // no spall data in the library yet: no tensile cutoff
+                    optional("p_min", f64::NEG_INFINITY),
+                )?,
+            ),
+            other => {
+                return Err(VerifyError::bad_value(
+                    &format!("model of material {name}"),
+                    other,
+                    "ideal-gas, jwl, stiffened-gas or mie-gruneisen",
+                ))
+            }
+        };
+        Ok(material)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blastsph_solver::EquationOfState;
+
+    #[test]
+    fn every_material_builds_and_the_required_ones_are_there() {
+        let library = Library::standard();
+        for name in library.names() {
+            library
+                .material(name)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+        }
+        for required in [
+            "air",
+            "tnt",
+            "water",
+            "al-6061",
+            "cu-ofhc",
+            "steel-4340",
+            "pmma",
+            "tungsten",
+        ] {
+            assert!(
+                library.materials.contains_key(required),
+                "{required} missing"
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_names_list_what_is_available() {
+        let err = Library::standard()
+            .material("unobtainium")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("unobtainium") && err.contains("cu-ofhc") && err.contains("tnt"),
+            "{err}"
+        );
+    }
+
+    /// The library's Hugoniot numbers are the ones of reference_data/hugoniot_linear.csv
+    /// (Steinberg via the FronTier transcription): a guard against copying errors.
+    #[test]
+    fn metals_match_the_hugoniot_table() {
+        let library = Library::standard();
+        let table = include_str!("../../reference_data/hugoniot_linear.csv");
+        let rows: Vec<Vec<&str>> = table
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .collect();
+        for (name, row_name) in [
+            ("al-6061", "Aluminum 6061-T6"),
+            ("cu-ofhc", "Copper OFHC 1/2 hard"),
+            ("steel-4340", "Steel 4340 RC38"),
+            ("pmma", "PMMA (Lucite)"),
+            ("tungsten", "Tungsten"),
+        ] {
+            let row = rows
+                .iter()
+                .find(|r| r[0] == row_name)
+                .expect("row in the table");
+            let p = &library.entry(name).unwrap().parameters;
+            let value = |k: &str| p.get(k).map_or(0.0, |x| x.value);
+            for (key, column) in [
+                ("rho0", 1),
+                ("c0", 2),
+                ("s1", 3),
+                ("s2", 4),
+                ("s3", 5),
+                ("gamma0", 6),
+            ] {
+                assert_eq!(
+                    value(key),
+                    row[column].parse::<f64>().unwrap(),
+                    "{name} {key}"
+                );
+            }
+        }
+    }
+
+    /// TNT from the library reproduces its own CJ pressure and detonation speed within 5 %.
+    #[test]
+    fn tnt_parameters_imply_their_chapman_jouguet_state() {
+        let library = Library::standard();
+        let p = &library.entry("tnt").unwrap().parameters;
+        let jwl = Jwl::new(
+            p["rho0"].value,
+            p["a"].value,
+            p["b"].value,
+            p["r1"].value,
+            p["r2"].value,
+            p["omega"].value,
+        )
+        .unwrap();
+        let (d, p_cj, _) = jwl.chapman_jouguet(p["e0"].value);
+        assert!((p_cj / p["p_cj"].value - 1.0).abs() < 0.05);
+        assert!((d / p["d_cj"].value - 1.0).abs() < 0.05);
+    }
+
+    #[test]
+    fn a_missing_parameter_is_named() {
+        let mut library = Library::standard();
+        library
+            .materials
+            .get_mut("cu-ofhc")
+            .unwrap()
+            .parameters
+            .remove("c0");
+        let err = library.material("cu-ofhc").unwrap_err().to_string();
+        assert!(err.contains("cu-ofhc") && err.contains("c0"), "{err}");
+    }
+
+    #[test]
+    fn air_at_rest_has_its_sound_speed() {
+        // c = √(γ p0/ρ0) = 340.3 m/s at sea level (ISO 2533 lists 340.294 m/s)
+        let library = Library::standard();
+        let air = library.material("air").unwrap();
+        let p = &library.entry("air").unwrap().parameters;
+        let e = p["p0"].value / ((p["gamma"].value - 1.0) * p["rho0"].value);
+        let c = air.eos.sound_speed(p["rho0"].value, e);
+        assert!((c - 340.294).abs() < 0.05, "{c}");
+    }
+}
