@@ -114,7 +114,6 @@ impl Library {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use blastsph_solver::EquationOfState;
 
     #[test]
     fn every_material_builds_and_the_required_ones_are_there() {
