@@ -4,7 +4,7 @@
 //! reported in elements per second: kernel evaluations, particles searched, particle updates.
 
 use blastsph_benchmarks::{gas_cube, jittered_lattice};
-use blastsph_solver::neighbours::{find_neighbours, CellGrid};
+use blastsph_solver::neighbours::{find_neighbours, CellGrid, PairReach};
 use blastsph_solver::{Kernel, KernelShape};
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::time::Duration;
@@ -43,7 +43,7 @@ fn neighbour_search<const D: usize>(c: &mut Criterion, n: usize) {
         b.iter(|| CellGrid::build(&x, 2.0 * 1.2 * dx))
     });
     group.bench_function(BenchmarkId::new("build+query", x.len()), |b| {
-        b.iter(|| find_neighbours(&x, &h, 2.0, x.len()))
+        b.iter(|| find_neighbours(&x, &h, 2.0, PairReach::MeanH, x.len()))
     });
     group.finish();
 }

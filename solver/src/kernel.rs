@@ -106,6 +106,13 @@ impl<const D: usize> Kernel<D> {
         self.sigma * inv_h.powi(D as i32 + 1) * shape_derivative(self.shape, D, q)
     }
 
+    /// ∂W/∂h (r held fixed) = −(D·W + r·∂W/∂r)/h, from W = σ h^{−D} w(r/h); the grad-h
+    /// terms (Springel & Hernquist 2002) need it.
+    #[inline]
+    pub fn h_derivative(&self, r: f64, h: f64) -> f64 {
+        -(D as f64 * self.value(r, h) + r * self.derivative(r, h)) / h
+    }
+
     /// ∇_i W(|x_i − x_j|, h) for the separation `dx = x_i − x_j` of length `r`.
     #[inline]
     pub fn gradient(&self, dx: &Vector<D>, r: f64, h: f64) -> Vector<D> {
@@ -236,10 +243,16 @@ mod tests {
             "{shape:?} D={D} q={q}: analytic {} numeric {numeric}",
             kernel.derivative(r, h)
         );
+        let numeric_h = (kernel.value(r, h + eps) - kernel.value(r, h - eps)) / (2.0 * eps);
+        assert!(
+            (kernel.h_derivative(r, h) - numeric_h).abs() <= 1e-6 * scale,
+            "{shape:?} D={D} q={q}: ∂W/∂h analytic {} numeric {numeric_h}",
+            kernel.h_derivative(r, h)
+        );
     }
 
     proptest! {
-        /// The analytic derivative matches a central difference (error O(eps²) ≪ 1e-6).
+        /// The analytic derivatives in r and h match central differences (error O(eps²) ≪ 1e-6).
         #[test]
         fn derivative_matches_central_difference(q in 0.01f64..2.99, k in 0usize..6) {
             let shape = KernelShape::ALL[k];

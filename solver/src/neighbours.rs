@@ -1,8 +1,9 @@
 //! Neighbour search by a cell-linked list, robust to smoothing lengths that vary by orders of
 //! magnitude (a blast empties its centre, where h grows).
 //!
-//! A pair (i, j) interacts when r < κ·(h_i + h_j)/2, the reach of the symmetrised kernel
-//! W(r, h̄_ij); the lists are symmetric (j lists i iff i lists j), which the pairwise
+//! A pair (i, j) interacts when r is below its [`PairReach`]: κ·(h_i + h_j)/2, the reach of the
+//! symmetrised kernel W(r, h̄_ij), or κ·max(h_i, h_j) where each side uses its own h (grad-h
+//! SPH); the lists are symmetric (j lists i iff i lists j), which the pairwise
 //! conservation of momentum and energy needs. Each pair is found once, by its *owner*: the
 //! particle with the larger h (the lower index on a tie), whose own reach κ·h covers the pair.
 //! Owners search a box of cells sized to their own reach, so a few particles with a large h do
@@ -14,6 +15,26 @@
 
 use crate::Vector;
 use rayon::prelude::*;
+
+/// Which pairs interact, given κ (the kernel's support in units of h).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairReach {
+    /// r < κ (h_i + h_j)/2: the pair kernel is W(r, h̄_ij).
+    MeanH,
+    /// r < κ max(h_i, h_j): each particle weighs the pair with its own h.
+    LargerH,
+}
+
+impl PairReach {
+    /// The reach of a pair whose owner has `h_owner` ≥ `h_other`.
+    #[inline]
+    fn of(self, support: f64, h_owner: f64, h_other: f64) -> f64 {
+        match self {
+            PairReach::MeanH => 0.5 * support * (h_owner + h_other),
+            PairReach::LargerH => support * h_owner,
+        }
+    }
+}
 
 /// Neighbour lists in two parts per particle: the pairs it owns, stored as the blocks the
 /// parallel search produced, and the owners that list it, in index order.
@@ -219,6 +240,7 @@ pub fn find_neighbours<const D: usize>(
     positions: &[Vector<D>],
     smoothing_length: &[f64],
     support: f64,
+    reach: PairReach,
     n_query: usize,
 ) -> NeighbourList {
     assert_eq!(positions.len(), smoothing_length.len());
@@ -226,7 +248,7 @@ pub fn find_neighbours<const D: usize>(
         return NeighbourList::default();
     }
     let grid = CellGrid::build(positions, support * median(smoothing_length));
-    let owned = owned_lists(&grid, positions, smoothing_length, support, n_query);
+    let owned = owned_lists(&grid, positions, smoothing_length, support, reach, n_query);
     symmetric_lists(owned, n_query)
 }
 
@@ -263,6 +285,7 @@ fn owned_lists<const D: usize>(
     positions: &[Vector<D>],
     smoothing_length: &[f64],
     support: f64,
+    reach: PairReach,
     n_query: usize,
 ) -> OwnedLists {
     let n_cells = grid.cell_start.len() - 1;
@@ -281,11 +304,11 @@ fn owned_lists<const D: usize>(
                 if members.is_empty() {
                     continue;
                 }
-                let reach = members
+                let cell_reach = members
                     .iter()
                     .map(|&i| support * smoothing_length[i as usize])
                     .fold(0.0, f64::max);
-                let rings = (reach / grid.cell_size).ceil().max(1.0) as usize;
+                let rings = (cell_reach / grid.cell_size).ceil().max(1.0) as usize;
                 candidates.clear(grid.centre(cell));
                 grid.for_each_cell_around(&grid.coordinates(cell), rings, |c| {
                     for &j in grid.members_of(c) {
@@ -298,7 +321,7 @@ fn owned_lists<const D: usize>(
                         i,
                         positions,
                         smoothing_length,
-                        support,
+                        (support, reach),
                         n_query,
                         &mut indices,
                     );
@@ -390,15 +413,15 @@ impl<const D: usize> CandidateBuffer<D> {
         }
     }
 
-    /// Appends to `out` every candidate j that i owns with r_ij < κ (h_i + h_j)/2, skipping
-    /// pairs of two unqueried particles. The owner's own reach κ h_i covers every such pair,
-    /// so the filter tests r < κ h_i.
+    /// Appends to `out` every candidate j that i owns within the pair's reach, skipping pairs of
+    /// two unqueried particles. The owner's own reach κ h_i covers every such pair, so the
+    /// filter tests r < κ h_i.
     fn collect_owned(
         &mut self,
         i: u32,
         positions: &[Vector<D>],
         smoothing_length: &[f64],
-        support: f64,
+        (support, pair_reach): (f64, PairReach),
         n_query: usize,
         out: &mut Vec<u32>,
     ) {
@@ -428,7 +451,7 @@ impl<const D: usize> CandidateBuffer<D> {
         for &k in &self.hits[..count] {
             let j = self.index[k as usize];
             let h_j = smoothing_length[j as usize];
-            let reach = 0.5 * support * (h_i + h_j);
+            let reach = pair_reach.of(support, h_i, h_j);
             if owns(i, h_i, j, h_j)
                 && (queried || (j as usize) < n_query)
                 && (positions[j as usize] - xi).norm_squared() < reach * reach
@@ -447,12 +470,17 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    fn brute_force<const D: usize>(x: &[Vector<D>], h: &[f64], support: f64) -> Vec<Vec<u32>> {
+    fn brute_force<const D: usize>(
+        x: &[Vector<D>],
+        h: &[f64],
+        support: f64,
+        pair_reach: PairReach,
+    ) -> Vec<Vec<u32>> {
         (0..x.len())
             .map(|i| {
                 let mut list: Vec<u32> = (0..x.len())
                     .filter(|&j| {
-                        let reach = 0.5 * support * (h[i] + h[j]);
+                        let reach = pair_reach.of(support, h[i].max(h[j]), h[i].min(h[j]));
                         j != i && (x[j] - x[i]).norm_squared() < reach * reach
                     })
                     .map(|j| j as u32)
@@ -463,7 +491,8 @@ mod tests {
             .collect()
     }
 
-    /// The first `n_query` lists equal the O(N²) scan's (the rest are unqueried images).
+    /// The first `n_query` lists equal the O(N²) scan's (the rest are unqueried images), for
+    /// both reach rules.
     fn agrees_with_brute_force<const D: usize>(coords: &[f64], hs: &[f64], n_query: usize) {
         let x: Vec<Vector<D>> = coords
             .chunks_exact(D)
@@ -471,12 +500,14 @@ mod tests {
             .collect();
         let h = &hs[..x.len()];
         let n_query = n_query.min(x.len());
-        let lists = find_neighbours(&x, h, 2.0, n_query);
-        let expected = brute_force(&x, h, 2.0);
-        for (i, want) in expected.iter().enumerate().take(n_query) {
-            let mut got: Vec<u32> = lists.of(i).map(|j| j as u32).collect();
-            got.sort_unstable();
-            assert_eq!(&got, want, "particle {i}");
+        for reach in [PairReach::MeanH, PairReach::LargerH] {
+            let lists = find_neighbours(&x, h, 2.0, reach, n_query);
+            let expected = brute_force(&x, h, 2.0, reach);
+            for (i, want) in expected.iter().enumerate().take(n_query) {
+                let mut got: Vec<u32> = lists.of(i).map(|j| j as u32).collect();
+                got.sort_unstable();
+                assert_eq!(&got, want, "particle {i}, {reach:?}");
+            }
         }
     }
 
@@ -515,7 +546,7 @@ mod tests {
             .collect();
         x.push(Vector::<3>::repeat(1e9));
         let h = vec![0.02; x.len()];
-        let lists = find_neighbours(&x, &h, 2.0, x.len());
+        let lists = find_neighbours(&x, &h, 2.0, PairReach::MeanH, x.len());
         assert_eq!(lists.of(100).count(), 0);
         // spacing 0.01·√3 ≈ 0.0173 along the diagonal, reach 2h = 0.04: two on each side
         assert_eq!(lists.of(50).count(), 4);

@@ -36,6 +36,12 @@ pub struct Particles<const D: usize> {
     pub energy_rate: Vec<f64>,
     /// Dρ/Dt; empty unless density is integrated by the continuity equation.
     pub density_rate: Vec<f64>,
+    /// The grad-h correction Ω_i = 1 − (∂h_i/∂ρ_i) Σ_j m_j ∂W_ij(h_i)/∂h_i (real particles and
+    /// images); empty unless h is solved with the density (grad-h).
+    pub omega: Vec<f64>,
+    /// Dh/Dt from the last force evaluation, which predicts the next step's h; empty unless
+    /// grad-h.
+    pub smoothing_rate: Vec<f64>,
     /// Largest pair signal speed seen by each particle in the last force evaluation.
     pub signal_speed: Vec<f64>,
     n_real: usize,
@@ -54,9 +60,19 @@ pub struct ParticleInit<const D: usize> {
     pub material: u16,
 }
 
+/// The fields a scene needs beyond the ones every scene has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OptionalFields {
+    /// Dρ/Dt (continuity density).
+    pub density_rate: bool,
+    /// Ω and Dh/Dt (grad-h).
+    pub grad_h: bool,
+}
+
 impl<const D: usize> Particles<D> {
-    /// Builds the store; `continuity_density` allocates Dρ/Dt, `multi_material` the material ids.
-    pub fn new(init: &[ParticleInit<D>], continuity_density: bool) -> Self {
+    /// Builds the store with the `optional` fields; material ids are stored only when some
+    /// particle is not material 0.
+    pub fn new(init: &[ParticleInit<D>], optional: OptionalFields) -> Self {
         let n = init.len();
         let multi_material = init.iter().any(|p| p.material != 0);
         Self {
@@ -76,7 +92,17 @@ impl<const D: usize> Particles<D> {
             id: (0..n as u32).collect(),
             acceleration: vec![Vector::zeros(); n],
             energy_rate: vec![0.0; n],
-            density_rate: if continuity_density {
+            density_rate: if optional.density_rate {
+                vec![0.0; n]
+            } else {
+                Vec::new()
+            },
+            omega: if optional.grad_h {
+                vec![1.0; n]
+            } else {
+                Vec::new()
+            },
+            smoothing_rate: if optional.grad_h {
                 vec![0.0; n]
             } else {
                 Vec::new()
@@ -133,6 +159,9 @@ impl<const D: usize> Particles<D> {
         self.internal_energy.truncate(n);
         self.pressure.truncate(n);
         self.sound_speed.truncate(n);
+        if !self.omega.is_empty() {
+            self.omega.truncate(n);
+        }
         self.images.clear();
     }
 
@@ -155,6 +184,9 @@ impl<const D: usize> Particles<D> {
         self.internal_energy.push(self.internal_energy[s]);
         self.pressure.push(self.pressure[s]);
         self.sound_speed.push(self.sound_speed[s]);
+        if !self.omega.is_empty() {
+            self.omega.push(self.omega[s]);
+        }
         self.images.push(Image {
             source,
             velocity_sign: sign,
@@ -162,7 +194,7 @@ impl<const D: usize> Particles<D> {
         });
     }
 
-    /// Copies the thermodynamic state (ρ, e, p, c, h) of every real particle onto its images.
+    /// Copies the thermodynamic state (ρ, e, p, c, h, Ω) of every real particle onto its images.
     pub fn refresh_image_state(&mut self) {
         for (k, image) in self.images.iter().enumerate() {
             let (i, s) = (self.n_real + k, image.source as usize);
@@ -171,6 +203,9 @@ impl<const D: usize> Particles<D> {
             self.pressure[i] = self.pressure[s];
             self.sound_speed[i] = self.sound_speed[s];
             self.smoothing_length[i] = self.smoothing_length[s];
+            if let Some(omega) = self.omega.get(s).copied() {
+                self.omega[i] = omega;
+            }
         }
     }
 
@@ -198,6 +233,8 @@ impl<const D: usize> Particles<D> {
         apply(&mut self.energy_rate, order);
         apply(&mut self.density_rate, order);
         apply(&mut self.signal_speed, order);
+        apply(&mut self.omega, order);
+        apply(&mut self.smoothing_rate, order);
     }
 
     /// Total mass of the real particles.

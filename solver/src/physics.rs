@@ -190,6 +190,124 @@ fn density_at<const D: usize>(
     )
 }
 
+/// The outcome of solving one particle's h together with its density.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SmoothingSolution {
+    /// h, ρ = Σ_j m_j W(r_ij, h) and Ω at the root.
+    Converged { h: f64, density: f64, omega: f64 },
+    /// The root lies beyond the neighbour search's reach; search again with at least this h.
+    BeyondReach { h: f64 },
+    /// The iteration did not settle (a degenerate neighbourhood).
+    Failed { h: f64 },
+}
+
+/// Iterations allowed per particle; bracketed Newton converges in a few where the guess is the
+/// predicted h, and bisection fallbacks halve the bracket, so 60 means something is wrong.
+const MAX_SMOOTHING_ITERATIONS: usize = 60;
+
+/// Grad-h summation density (Springel & Hernquist 2002; Price 2012, §2.2): for each real
+/// particle, the h that satisfies h = η (m/ρ)^{1/D} with ρ = Σ_j m_j W(r_ij, h) (self term
+/// included, each particle with its own h), by Newton–Raphson on
+/// f(h) = Σ_j m_j W(r_ij, h) − m (η/h)^D, kept inside a bracket [lo, hi] (f is negative below
+/// the root and positive above it) with bisection where a Newton step would leave it. Stops when a step changes h
+/// by less than `tolerance`·h. Neighbours must include every particle within κ·h_i of i for
+/// the h_i each particle holds on entry (its reach); a root beyond it is reported, not guessed.
+/// Ω_i = 1 + h_i/(D ρ_i) Σ_j m_j ∂W_ij/∂h_i.
+pub fn solve_smoothing_lengths<const D: usize>(
+    particles: &Particles<D>,
+    neighbours: &NeighbourList,
+    kernel: &Kernel<D>,
+    eta: f64,
+    tolerance: f64,
+    initial_guess: &[f64],
+) -> Vec<SmoothingSolution> {
+    let p = particles;
+    let sources: Vec<(Vector<D>, f64)> = (0..p.len())
+        .into_par_iter()
+        .map(|k| (p.position[k], p.mass[k]))
+        .collect();
+    (0..p.n_real())
+        .into_par_iter()
+        .map(|i| {
+            let reach = p.smoothing_length[i];
+            let guess = initial_guess[i].min(reach);
+            solve_one(
+                i,
+                &sources,
+                neighbours,
+                kernel,
+                (eta, tolerance),
+                (guess, reach),
+            )
+        })
+        .collect()
+}
+
+fn solve_one<const D: usize>(
+    i: usize,
+    sources: &[(Vector<D>, f64)],
+    neighbours: &NeighbourList,
+    kernel: &Kernel<D>,
+    (eta, tolerance): (f64, f64),
+    (guess, reach): (f64, f64),
+) -> SmoothingSolution {
+    let (x_i, m_i) = sources[i];
+    let dim = D as f64;
+    // Σ_j m_j W(r_ij, h) and its h derivative
+    let sums = |h: f64| {
+        neighbours.of(i).fold(
+            (
+                m_i * kernel.value(0.0, h),
+                m_i * kernel.h_derivative(0.0, h),
+            ),
+            |(rho, drho), j| {
+                let (x_j, m_j) = sources[j];
+                let r = (x_i - x_j).norm();
+                (
+                    rho + m_j * kernel.value(r, h),
+                    drho + m_j * kernel.h_derivative(r, h),
+                )
+            },
+        )
+    };
+    let (mut lo, mut hi) = (0.0, f64::INFINITY);
+    let mut h = guess;
+    for _ in 0..MAX_SMOOTHING_ITERATIONS {
+        let (rho, drho_dh) = sums(h);
+        let rho_eta = m_i * (eta / h).powi(D as i32);
+        let f = rho - rho_eta;
+        let f_prime = drho_dh + dim * rho_eta / h;
+        if f < 0.0 {
+            lo = h;
+        } else {
+            hi = h;
+        }
+        let newton = h - f / f_prime;
+        let mut next = if f_prime > 0.0 && newton > lo && newton < hi {
+            newton
+        } else if hi.is_finite() {
+            0.5 * (lo + hi)
+        } else {
+            2.0 * h
+        };
+        if next > reach {
+            if h >= reach {
+                return SmoothingSolution::BeyondReach { h: next };
+            }
+            next = reach;
+        }
+        if (next - h).abs() <= tolerance * h {
+            return SmoothingSolution::Converged {
+                h,
+                density: rho,
+                omega: 1.0 + h * drho_dh / (dim * rho),
+            };
+        }
+        h = next;
+    }
+    SmoothingSolution::Failed { h }
+}
+
 /// What the force loop reads of a neighbour, packed so that a pair touches one or two cache
 /// lines instead of one per field.
 #[derive(Clone, Copy)]
@@ -202,8 +320,8 @@ struct RateSource<const D: usize> {
     sound_speed: f64,
     pressure: f64,
     internal_energy: f64,
-    /// p/ρ², computed once so that the pair term P_i + P_j is the same floating-point number
-    /// seen from i and from j.
+    /// p/(Ω ρ²) (Ω = 1 without grad-h), computed once so that the pair term P_i + P_j is the
+    /// same floating-point number seen from i and from j.
     pressure_over_rho2: f64,
     /// A wall image: its force on a real particle is the wall's reaction.
     is_wall: bool,
@@ -225,12 +343,26 @@ struct RateTerms<'a, const D: usize> {
     kernel: &'a Kernel<D>,
     viscosity: &'a ArtificialViscosity,
     energy: EnergyEquation,
+    pair_kernel: PairKernel,
 }
 
-/// Momentum, energy and (for continuity density) density rates of the real particles:
+/// Which kernel a pair uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairKernel {
+    /// W(r, h̄_ij), h̄_ij = (h_i + h_j)/2, on both sides of the pair.
+    MeanH,
+    /// Grad-h SPH (Price 2012, eqs. 34–35): i's pressure acts through ∇W(r, h_i), j's through
+    /// ∇W(r, h_j), each divided by its Ω; viscosity and conduction through the mean of the two
+    /// gradients, so the pair forces stay antisymmetric.
+    OwnH,
+}
+
+/// Momentum, energy and (for continuity density or grad-h) density rates of the real particles:
 /// Dv_i/Dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇_i W_ij,
 /// De_i/Dt in the chosen [`EnergyEquation`] form,
-/// Dρ_i/Dt = Σ_j m_j v_ij·∇_i W_ij.
+/// Dρ_i/Dt = Σ_j m_j v_ij·∇_i W_ij,
+/// with the grad-h forms where `pair_kernel` is [`PairKernel::OwnH`] (the particles then carry
+/// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess).
 /// Returns the total force the walls exert on the particles.
 pub fn compute_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -238,6 +370,7 @@ pub fn compute_rates<const D: usize>(
     kernel: &Kernel<D>,
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
+    pair_kernel: PairKernel,
 ) -> Vector<D> {
     let n = particles.n_real();
     let p = &*particles;
@@ -245,7 +378,9 @@ pub fn compute_rates<const D: usize>(
         kernel,
         viscosity,
         energy,
+        pair_kernel,
     };
+    let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
     let sources: Vec<RateSource<D>> = (0..p.len())
         .into_par_iter()
         .map(|k| RateSource {
@@ -257,7 +392,7 @@ pub fn compute_rates<const D: usize>(
             sound_speed: p.sound_speed[k],
             pressure: p.pressure[k],
             internal_energy: p.internal_energy[k],
-            pressure_over_rho2: pressure_term(p.pressure[k], p.density[k], 0.0, 1.0),
+            pressure_over_rho2: pressure_term(p.pressure[k], p.density[k], 0.0, 1.0) / omega(k),
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
         })
         .collect();
@@ -265,14 +400,19 @@ pub fn compute_rates<const D: usize>(
         .into_par_iter()
         .map(|i| rates_at(i, &sources, neighbours, &terms))
         .collect();
-    let continuity = !particles.density_rate.is_empty();
+    let p = particles;
+    let (continuity, grad_h) = (!p.density_rate.is_empty(), !p.smoothing_rate.is_empty());
     let mut wall_force = Vector::zeros();
     for (i, rate) in rates.iter().enumerate() {
-        particles.acceleration[i] = rate.acceleration;
-        particles.energy_rate[i] = rate.energy_rate;
-        particles.signal_speed[i] = rate.signal_speed;
+        p.acceleration[i] = rate.acceleration;
+        p.energy_rate[i] = rate.energy_rate;
+        p.signal_speed[i] = rate.signal_speed;
         if continuity {
-            particles.density_rate[i] = rate.density_rate;
+            p.density_rate[i] = rate.density_rate;
+        }
+        if grad_h {
+            let density_rate = rate.density_rate / p.omega[i];
+            p.smoothing_rate[i] = -p.smoothing_length[i] * density_rate / (D as f64 * p.density[i]);
         }
         wall_force += rate.wall_force;
     }
@@ -305,26 +445,37 @@ fn rates_at<const D: usize>(
             let r = r2.sqrt();
             let inv_r = 1.0 / r;
             let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-            let dw_dr = terms.kernel.derivative(r, h);
-            let grad = dx * (dw_dr * inv_r);
+            // dW/dr for i's pressure, for j's, and their mean for viscosity and conduction
+            let (dw_i, dw_j, dw_mean) = match terms.pair_kernel {
+                PairKernel::MeanH => {
+                    let dw = terms.kernel.derivative(r, h);
+                    (dw, dw, dw)
+                }
+                PairKernel::OwnH => {
+                    let dw_i = terms.kernel.derivative(r, me.smoothing_length);
+                    let dw_j = terms.kernel.derivative(r, other.smoothing_length);
+                    (dw_i, dw_j, 0.5 * (dw_i + dw_j))
+                }
+            };
             let v_ij = me.velocity - other.velocity;
             let v_dot_x = v_ij.dot(&dx);
             let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
             let rho_mean = 0.5 * (me.density + other.density);
             let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean);
             let m_j = other.mass;
-            let coefficient = m_j * (me.pressure_over_rho2 + other.pressure_over_rho2 + pi_ij);
-            let v_dot_grad = v_ij.dot(&grad);
-            let force = grad * (-coefficient);
-            out.acceleration += force;
-            out.energy_rate += match terms.energy {
-                EnergyEquation::OwnPressure => {
-                    m_j * (me.pressure_over_rho2 + 0.5 * pi_ij) * v_dot_grad
-                }
-                EnergyEquation::Symmetric => 0.5 * coefficient * v_dot_grad,
-            };
+            // every gradient here is dW/dr · x_ij/r, so the pair's terms combine as scalars
+            let pressure_i = m_j * me.pressure_over_rho2 * dw_i;
+            let pressure_j = m_j * other.pressure_over_rho2 * dw_j;
+            let viscous = m_j * pi_ij * dw_mean;
+            let v_dot_rhat = v_dot_x * inv_r;
+            out.acceleration -= dx * ((pressure_i + pressure_j + viscous) * inv_r);
+            out.energy_rate += v_dot_rhat
+                * match terms.energy {
+                    EnergyEquation::OwnPressure => pressure_i + 0.5 * viscous,
+                    EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j + viscous),
+                };
             out.energy_rate += m_j
-                * dw_dr
+                * dw_mean
                 * terms.viscosity.conduction(
                     me.internal_energy,
                     other.internal_energy,
@@ -332,11 +483,11 @@ fn rates_at<const D: usize>(
                     other.pressure,
                     rho_mean,
                 );
-            out.density_rate += m_j * v_dot_grad;
-            let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_x * inv_r);
+            out.density_rate += m_j * dw_i * v_dot_rhat;
+            let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_rhat);
             out.signal_speed = out.signal_speed.max(v_sig);
             if other.is_wall {
-                out.wall_force += force * me.mass;
+                out.wall_force -= dx * ((pressure_i + pressure_j + viscous) * inv_r * me.mass);
             }
         }
     }

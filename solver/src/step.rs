@@ -3,8 +3,8 @@
 //! Integration is kick–drift–kick leapfrog (second order). Without viscosity it retraces its
 //! steps to third order in Δt: exactly for the positions' part, up to the energy predictor below
 //! (tested in `solver/tests/conservation.rs`). With `SmoothingLength::FollowDensity`, h lags
-//! one step behind the density, which breaks reversal at first order; the grad-h scheme that
-//! solves h and ρ together is the cure. Steps:
+//! one step behind the density, which breaks reversal at first order; `SmoothingLength::GradH`
+//! solves h and ρ together and carries the Ω terms, which conserves energy again. Steps:
 //! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted
 //! v* = v^{n+½} + a^n Δt/2 (and likewise e, ρ), then v^{n+1} = v^{n+½} + a^{n+1} Δt/2.
 //! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
@@ -14,9 +14,11 @@ use crate::boundary::Domain;
 use crate::eos::Material;
 use crate::error::SolverError;
 use crate::kernel::{Kernel, KernelShape};
-use crate::neighbours::{find_neighbours, CellGrid, NeighbourList};
-use crate::particles::{ParticleInit, Particles};
-use crate::physics::{self, ArtificialViscosity, DensityMethod, EnergyEquation};
+use crate::neighbours::{find_neighbours, CellGrid, NeighbourList, PairReach};
+use crate::particles::{OptionalFields, ParticleInit, Particles};
+use crate::physics::{
+    self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, SmoothingSolution,
+};
 use crate::Vector;
 use std::time::Instant;
 
@@ -25,9 +27,74 @@ use std::time::Instant;
 pub enum SmoothingLength {
     /// h stays as given.
     Fixed,
-    /// h_i = η (m_i/ρ_i)^{1/D} from the latest density, before each neighbour search.
+    /// h_i = η (m_i/ρ_i)^{1/D} from the latest density, before each neighbour search. Each
+    /// pair uses W(r, h̄_ij); energy is conserved up to the change of h between steps.
     FollowDensity { eta: f64 },
+    /// Grad-h SPH: h_i = η (m_i/ρ_i)^{1/D} and ρ_i = Σ_j m_j W(r_ij, h_i) solved together by
+    /// Newton–Raphson until a step changes h by less than `tolerance`·h, with the Ω terms in
+    /// momentum and energy (Springel & Hernquist 2002; Price 2012), so that total energy is
+    /// conserved to the integrator's accuracy. Needs summation density.
+    GradH { eta: f64, tolerance: f64 },
 }
+
+/// The default grad-h tolerance: the Ω terms assume h and ρ agree exactly, and a relative
+/// mismatch δ shows up as an energy error of order δ per step; 1e-6 keeps that below the
+/// integrator's error at a cost of one or two extra density passes.
+pub const GRAD_H_TOLERANCE: f64 = 1e-6;
+
+impl SmoothingLength {
+    /// Every mode with the given η (and the default grad-h tolerance).
+    pub fn all(eta: f64) -> [SmoothingLength; 3] {
+        [
+            SmoothingLength::Fixed,
+            SmoothingLength::FollowDensity { eta },
+            SmoothingLength::GradH {
+                eta,
+                tolerance: GRAD_H_TOLERANCE,
+            },
+        ]
+    }
+
+    /// Kebab-case name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            SmoothingLength::Fixed => "fixed",
+            SmoothingLength::FollowDensity { .. } => "follow-density",
+            SmoothingLength::GradH { .. } => "grad-h",
+        }
+    }
+
+    /// η, where h follows the density.
+    pub fn eta(self) -> Option<f64> {
+        match self {
+            SmoothingLength::Fixed => None,
+            SmoothingLength::FollowDensity { eta } | SmoothingLength::GradH { eta, .. } => {
+                Some(eta)
+            }
+        }
+    }
+
+    fn pair_reach(self) -> PairReach {
+        match self {
+            SmoothingLength::GradH { .. } => PairReach::LargerH,
+            _ => PairReach::MeanH,
+        }
+    }
+
+    fn pair_kernel(self) -> PairKernel {
+        match self {
+            SmoothingLength::GradH { .. } => PairKernel::OwnH,
+            _ => PairKernel::MeanH,
+        }
+    }
+}
+
+/// The allowed range of η = h/(m/ρ)^{1/D}: from under one neighbour spacing to four.
+pub const ETA_RANGE: (f64, f64) = (0.5, 4.0);
+
+/// The grad-h neighbour search reaches this much beyond each particle's predicted h, so that
+/// the converged h rarely needs a second search.
+const GRAD_H_SKIN: f64 = 0.03;
 
 /// The allowed range of the Courant number C, the range the stability stress test covers
 /// (jittered Sod at random C up to 0.5, and at C = 0.01).
@@ -70,10 +137,35 @@ impl SimulationConfig {
                 &format!("{lo} ≤ C ≤ {hi}"),
             ));
         }
-        if let SmoothingLength::FollowDensity { eta } = self.smoothing {
-            if !(0.5..=4.0).contains(&eta) {
-                return Err(SolverError::invalid("eta", eta, "0.5 ≤ η ≤ 4"));
+        let (eta_lo, eta_hi) = ETA_RANGE;
+        match self.smoothing {
+            SmoothingLength::Fixed => {}
+            SmoothingLength::FollowDensity { eta } | SmoothingLength::GradH { eta, .. }
+                if !(eta_lo..=eta_hi).contains(&eta) =>
+            {
+                return Err(SolverError::invalid(
+                    "eta",
+                    eta,
+                    &format!("{eta_lo} ≤ η ≤ {eta_hi}"),
+                ));
             }
+            SmoothingLength::GradH { tolerance, .. } => {
+                if !(tolerance > 0.0 && tolerance <= 1e-2) {
+                    return Err(SolverError::invalid(
+                        "grad-h tolerance",
+                        tolerance,
+                        "0 < tolerance ≤ 1e-2",
+                    ));
+                }
+                if self.density != DensityMethod::Summation {
+                    return Err(SolverError::invalid(
+                        "density",
+                        self.density.name(),
+                        "summation (grad-h solves h with the summation density)",
+                    ));
+                }
+            }
+            SmoothingLength::FollowDensity { .. } => {}
         }
         if !(self.min_time_step >= 0.0) {
             return Err(SolverError::invalid(
@@ -125,6 +217,8 @@ pub struct Simulation<const D: usize> {
     wall_force: Vector<D>,
     wall_impulse: Vector<D>,
     times: PhaseTimes,
+    /// Neighbour searches repeated because a grad-h root lay beyond the first search's reach.
+    repeated_searches: u64,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -137,9 +231,12 @@ impl<const D: usize> Simulation<D> {
     ) -> Result<Self, SolverError> {
         config.validate()?;
         validate_particles(init, materials.len())?;
-        let continuity = config.density == DensityMethod::Continuity;
+        let optional = OptionalFields {
+            density_rate: config.density == DensityMethod::Continuity,
+            grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
+        };
         let mut sim = Self {
-            particles: Particles::new(init, continuity),
+            particles: Particles::new(init, optional),
             materials,
             domain,
             config,
@@ -151,8 +248,9 @@ impl<const D: usize> Simulation<D> {
             wall_force: Vector::zeros(),
             wall_impulse: Vector::zeros(),
             times: PhaseTimes::default(),
+            repeated_searches: 0,
         };
-        sim.evaluate_rates();
+        sim.evaluate_rates()?;
         sim.check_health()?;
         Ok(sim)
     }
@@ -174,6 +272,10 @@ impl<const D: usize> Simulation<D> {
     }
     pub fn phase_times(&self) -> PhaseTimes {
         self.times
+    }
+    /// Neighbour searches repeated so far because a grad-h root lay beyond the search's reach.
+    pub fn repeated_searches(&self) -> u64 {
+        self.repeated_searches
     }
     /// ∫ F_wall dt: the momentum the walls have delivered so far.
     pub fn wall_impulse(&self) -> Vector<D> {
@@ -217,7 +319,7 @@ impl<const D: usize> Simulation<D> {
         self.drift_and_predict(dt);
         self.times.integration += start.elapsed().as_secs_f64();
         let wall_force_before = self.wall_force;
-        self.evaluate_rates();
+        self.evaluate_rates()?;
         let start = Instant::now();
         self.close_kick(0.5 * dt);
         self.wall_impulse += (wall_force_before + self.wall_force) * (0.5 * dt);
@@ -289,6 +391,10 @@ impl<const D: usize> Simulation<D> {
         for i in 0..n {
             p.position[i] += p.velocity[i] * dt;
         }
+        // the grad-h iteration starts from h + Dh/Dt·Δt (kept within a factor of two)
+        for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
+            *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);
+        }
         self.domain.wrap_periodic(p);
         self.half.velocity.clear();
         self.half.velocity.extend_from_slice(&p.velocity[..n]);
@@ -316,27 +422,25 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Smoothing lengths → images → neighbours → density → EOS → forces.
-    fn evaluate_rates(&mut self) {
+    fn evaluate_rates(&mut self) -> Result<(), SolverError> {
         let start = Instant::now();
-        self.update_smoothing_lengths();
-        let h_max = self
-            .particles
-            .smoothing_length
-            .iter()
-            .cloned()
-            .fold(0.0, f64::max);
-        self.domain
-            .make_images(&mut self.particles, self.kernel.support_radius(h_max));
-        let p = &mut self.particles;
-        self.neighbours = find_neighbours(
-            &p.position,
-            &p.smoothing_length,
-            self.kernel.shape().support(),
-            p.n_real(),
-        );
+        match self.config.smoothing {
+            SmoothingLength::GradH { eta, tolerance } => self.solve_grad_h(eta, tolerance)?,
+            SmoothingLength::FollowDensity { eta } => {
+                let p = &mut self.particles;
+                for i in 0..p.n_real() {
+                    p.smoothing_length[i] = eta * (p.mass[i] / p.density[i]).powf(1.0 / D as f64);
+                }
+                self.search_neighbours();
+            }
+            SmoothingLength::Fixed => self.search_neighbours(),
+        }
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        if self.config.density == DensityMethod::Summation {
+        let p = &mut self.particles;
+        if self.config.density == DensityMethod::Summation
+            && !matches!(self.config.smoothing, SmoothingLength::GradH { .. })
+        {
             physics::summation_density(p, &self.neighbours, &self.kernel);
         }
         for i in 0..p.n_real() {
@@ -353,17 +457,76 @@ impl<const D: usize> Simulation<D> {
             &self.kernel,
             &self.config.viscosity,
             self.config.energy,
+            self.config.smoothing.pair_kernel(),
         );
         self.times.forces += start.elapsed().as_secs_f64();
+        Ok(())
     }
 
-    fn update_smoothing_lengths(&mut self) {
-        if let SmoothingLength::FollowDensity { eta } = self.config.smoothing {
-            let p = &mut self.particles;
-            for i in 0..p.n_real() {
-                p.smoothing_length[i] = eta * (p.mass[i] / p.density[i]).powf(1.0 / D as f64);
+    /// Images for the current h, then the neighbour lists.
+    fn search_neighbours(&mut self) {
+        let p = &mut self.particles;
+        p.clear_images();
+        let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
+        self.domain
+            .make_images(p, self.kernel.support_radius(h_max));
+        self.neighbours = find_neighbours(
+            &p.position,
+            &p.smoothing_length,
+            self.kernel.shape().support(),
+            self.config.smoothing.pair_reach(),
+            p.n_real(),
+        );
+    }
+
+    /// Grad-h: searches with each particle's predicted h widened by GRAD_H_SKIN, solves h and
+    /// ρ together, and searches again (wider where needed) until every root lies within reach.
+    fn solve_grad_h(&mut self, eta: f64, tolerance: f64) -> Result<(), SolverError> {
+        let n = self.particles.n_real();
+        let guess = self.particles.smoothing_length[..n].to_vec();
+        let mut reach: Vec<f64> = guess.iter().map(|h| h * (1.0 + GRAD_H_SKIN)).collect();
+        let solutions = loop {
+            self.particles.smoothing_length[..n].copy_from_slice(&reach);
+            self.search_neighbours();
+            let solutions = physics::solve_smoothing_lengths(
+                &self.particles,
+                &self.neighbours,
+                &self.kernel,
+                eta,
+                tolerance,
+                &guess,
+            );
+            let mut short = false;
+            for (i, solution) in solutions.iter().enumerate() {
+                match *solution {
+                    SmoothingSolution::Converged { .. } => {}
+                    SmoothingSolution::BeyondReach { h } => {
+                        reach[i] = h * (1.0 + GRAD_H_SKIN);
+                        short = true;
+                    }
+                    SmoothingSolution::Failed { h } => {
+                        return Err(self.blow_up(
+                            i,
+                            "smoothing length (grad-h did not converge)",
+                            h,
+                        ))
+                    }
+                }
+            }
+            if !short {
+                break solutions;
+            }
+            self.repeated_searches += 1;
+        };
+        let p = &mut self.particles;
+        for (i, solution) in solutions.into_iter().enumerate() {
+            if let SmoothingSolution::Converged { h, density, omega } = solution {
+                p.smoothing_length[i] = h;
+                p.density[i] = density;
+                p.omega[i] = omega;
             }
         }
+        Ok(())
     }
 
     /// Stops the run with a diagnosis if any particle has left the physical range.
@@ -388,18 +551,24 @@ impl<const D: usize> Simulation<D> {
                     .map(|a| ("position beyond a wall on axis", a as f64))
             };
             if let Some((quantity, value)) = failure {
-                return Err(SolverError::BlowUp {
-                    step: self.steps,
-                    time: self.time,
-                    particle: p.id[i],
-                    material: material.name.clone(),
-                    position: p.position[i].iter().copied().collect(),
-                    quantity,
-                    value,
-                });
+                return Err(self.blow_up(i, quantity, value));
             }
         }
         Ok(())
+    }
+
+    /// The diagnosis of particle i leaving the physical range.
+    fn blow_up(&self, i: usize, quantity: &'static str, value: f64) -> SolverError {
+        let p = &self.particles;
+        SolverError::BlowUp {
+            step: self.steps,
+            time: self.time,
+            particle: p.id[i],
+            material: self.materials[p.material_of(i)].name.clone(),
+            position: p.position[i].iter().copied().collect(),
+            quantity,
+            value,
+        }
     }
 }
 

@@ -16,6 +16,7 @@ use crate::riemann::{self, GasState, RiemannSolution};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, IdealGas, KernelShape,
     Material, Simulation, SimulationConfig, SmoothingLength, SolverError, Vector,
@@ -118,6 +119,11 @@ fn info(name: &'static str, summary: &'static str, case: &Case) -> super::Proble
             // Toro 3's errors stop falling at 200 particles (L1(u) 0.26, 0.24, 0.24 for 200–800);
             // at η = 2 Sod and Toro 3 converge at first order (measured, see the issue note)
             ParamSpec::new("eta", 2.0, "smoothing length h = η·m/ρ"),
+            ParamSpec::new(
+                "smoothing",
+                "follow-density",
+                "smoothing length: fixed (h = η·initial spacing), follow-density or grad-h",
+            ),
             ParamSpec::new("kernel", "cubic-spline", "kernel shape"),
             ParamSpec::new(
                 "jitter",
@@ -136,6 +142,8 @@ struct Settings {
     gamma: f64,
     t_end: f64,
     config: SimulationConfig,
+    /// h/spacing at the start (and throughout, where h follows the density)
+    eta: f64,
     jitter: f64,
     seed: u64,
 }
@@ -144,6 +152,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
     let mut case = case_of(name);
     let gamma = params.number("gamma", 1.0 + 1e-9, 10.0)?;
     let t_end = params.number("t_end", 1e-9, 10.0)?;
+    let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
     let config = SimulationConfig {
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
         density: params.choice("density", &DensityMethod::ALL, DensityMethod::name)?,
@@ -154,9 +163,11 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
             ..ArtificialViscosity::default()
         },
         energy: params.choice("energy", &EnergyEquation::ALL, EnergyEquation::name)?,
-        smoothing: SmoothingLength::FollowDensity {
-            eta: params.number("eta", 0.5, 4.0)?,
-        },
+        smoothing: params.choice(
+            "smoothing",
+            &SmoothingLength::all(eta),
+            SmoothingLength::name,
+        )?,
         cfl: params.number(
             "cfl",
             blastsph_solver::step::CFL_RANGE.0,
@@ -173,6 +184,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
         gamma,
         t_end,
         config,
+        eta,
         jitter,
         seed,
     })
@@ -237,10 +249,7 @@ fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
         (Boundary::Wall, 1.0)
     };
     let eos = IdealGas::new(s.gamma).expect("gamma validated");
-    let eta = match s.config.smoothing {
-        SmoothingLength::FollowDensity { eta } => eta,
-        SmoothingLength::Fixed => 1.2,
-    };
+    let eta = s.eta;
     let mut random = SplitMix64(s.seed);
     let mut particle = |x: f64, state: &GasState, dx: f64| ParticleInit {
         position: Vector::<1>::new(x + s.jitter * dx * (2.0 * random.next_unit() - 1.0)),
