@@ -15,6 +15,7 @@ pub mod neighbours;
 pub mod operators;
 pub mod particles;
 pub mod physics;
+pub mod radial;
 pub mod step;
 
 pub use boundary::{Boundary, Domain};
@@ -23,6 +24,7 @@ pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
 pub use physics::{ArtificialViscosity, DensityMethod, EnergyEquation};
+pub use radial::Geometry;
 pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
 
 /// A point or vector in D dimensions.

@@ -10,7 +10,7 @@
 //! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
 //! signal speed, and the force criterion).
 
-use crate::boundary::Domain;
+use crate::boundary::{Boundary, Domain};
 use crate::eos::Material;
 use crate::error::SolverError;
 use crate::kernel::{Kernel, KernelShape};
@@ -19,6 +19,7 @@ use crate::particles::{OptionalFields, ParticleInit, Particles};
 use crate::physics::{
     self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, SmoothingSolution,
 };
+use crate::radial::{self, Geometry, RadialKernel};
 use crate::Vector;
 use std::time::Instant;
 
@@ -102,6 +103,8 @@ pub const CFL_RANGE: (f64, f64) = (0.01, 0.5);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimulationConfig {
+    /// Planar (Cartesian in D dimensions) or, for D = 1, cylindrical or spherical in r.
+    pub geometry: Geometry,
     pub kernel: KernelShape,
     pub density: DensityMethod,
     pub viscosity: ArtificialViscosity,
@@ -116,6 +119,7 @@ pub struct SimulationConfig {
 impl Default for SimulationConfig {
     fn default() -> Self {
         Self {
+            geometry: Geometry::Planar,
             kernel: KernelShape::CubicSpline,
             density: DensityMethod::Summation,
             viscosity: ArtificialViscosity::default(),
@@ -174,7 +178,38 @@ impl SimulationConfig {
                 "≥ 0",
             ));
         }
+        self.validate_geometry::<1>()?;
         self.viscosity.validate()
+    }
+
+    /// Radial geometries are one-dimensional, with summation density and h fixed or following
+    /// the density (the grad-h terms are derived for Cartesian kernels only).
+    fn validate_geometry<const D: usize>(&self) -> Result<(), SolverError> {
+        if self.geometry == Geometry::Planar {
+            return Ok(());
+        }
+        if D != 1 {
+            return Err(SolverError::invalid(
+                "geometry",
+                self.geometry.name(),
+                &format!("planar in {D}D (cylindrical and spherical are 1D in r)"),
+            ));
+        }
+        if self.density != DensityMethod::Summation {
+            return Err(SolverError::invalid(
+                "density",
+                self.density.name(),
+                "summation in a radial geometry",
+            ));
+        }
+        if let SmoothingLength::GradH { .. } = self.smoothing {
+            return Err(SolverError::invalid(
+                "smoothing",
+                self.smoothing.name(),
+                "fixed or follow-density in a radial geometry",
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -210,6 +245,8 @@ pub struct Simulation<const D: usize> {
     domain: Domain<D>,
     config: SimulationConfig,
     kernel: Kernel<D>,
+    /// The ring- or shell-averaged kernel of a radial geometry.
+    radial_kernel: Option<RadialKernel>,
     neighbours: NeighbourList,
     half: HalfStep<D>,
     time: f64,
@@ -230,7 +267,13 @@ impl<const D: usize> Simulation<D> {
         config: SimulationConfig,
     ) -> Result<Self, SolverError> {
         config.validate()?;
+        config.validate_geometry::<D>()?;
         validate_particles(init, materials.len())?;
+        let radial_kernel = (config.geometry != Geometry::Planar)
+            .then(|| RadialKernel::new(config.geometry, config.kernel));
+        if radial_kernel.is_some() {
+            validate_radial_scene(init, &domain)?;
+        }
         let optional = OptionalFields {
             density_rate: config.density == DensityMethod::Continuity,
             grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
@@ -241,6 +284,7 @@ impl<const D: usize> Simulation<D> {
             domain,
             config,
             kernel: Kernel::new(config.kernel),
+            radial_kernel,
             neighbours: NeighbourList::default(),
             half: HalfStep::default(),
             time: 0.0,
@@ -391,6 +435,15 @@ impl<const D: usize> Simulation<D> {
         for i in 0..n {
             p.position[i] += p.velocity[i] * dt;
         }
+        if self.radial_kernel.is_some() {
+            // the origin reflects: a ring or shell that crosses it comes out on the other side
+            for i in 0..n {
+                if p.position[i][0] < 0.0 {
+                    p.position[i] = -p.position[i];
+                    p.velocity[i] = -p.velocity[i];
+                }
+            }
+        }
         // the grad-h iteration starts from h + Dh/Dt·Δt (kept within a factor of two)
         for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
             *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);
@@ -428,8 +481,15 @@ impl<const D: usize> Simulation<D> {
             SmoothingLength::GradH { eta, tolerance } => self.solve_grad_h(eta, tolerance)?,
             SmoothingLength::FollowDensity { eta } => {
                 let p = &mut self.particles;
+                let geometry = self.config.geometry;
                 for i in 0..p.n_real() {
-                    p.smoothing_length[i] = eta * (p.mass[i] / p.density[i]).powf(1.0 / D as f64);
+                    let volume = p.mass[i] / p.density[i];
+                    p.smoothing_length[i] = eta
+                        * if geometry == Geometry::Planar {
+                            volume.powf(1.0 / D as f64)
+                        } else {
+                            geometry.shell_width(p.position[i][0], volume)
+                        };
                 }
                 self.search_neighbours();
             }
@@ -438,7 +498,9 @@ impl<const D: usize> Simulation<D> {
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
         let p = &mut self.particles;
-        if self.config.density == DensityMethod::Summation
+        if let Some(radial_kernel) = &self.radial_kernel {
+            radial::radial_density(p, &self.neighbours, radial_kernel);
+        } else if self.config.density == DensityMethod::Summation
             && !matches!(self.config.smoothing, SmoothingLength::GradH { .. })
         {
             physics::summation_density(p, &self.neighbours, &self.kernel);
@@ -451,14 +513,24 @@ impl<const D: usize> Simulation<D> {
         p.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        self.wall_force = physics::compute_rates(
-            p,
-            &self.neighbours,
-            &self.kernel,
-            &self.config.viscosity,
-            self.config.energy,
-            self.config.smoothing.pair_kernel(),
-        );
+        if let Some(radial_kernel) = &self.radial_kernel {
+            radial::radial_rates(
+                p,
+                &self.neighbours,
+                radial_kernel,
+                &self.config.viscosity,
+                self.config.energy,
+            );
+        } else {
+            self.wall_force = physics::compute_rates(
+                p,
+                &self.neighbours,
+                &self.kernel,
+                &self.config.viscosity,
+                self.config.energy,
+                self.config.smoothing.pair_kernel(),
+            );
+        }
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
     }
@@ -570,6 +642,29 @@ impl<const D: usize> Simulation<D> {
             value,
         }
     }
+}
+
+/// A radial scene has r ≥ 0 for every particle and no images (the origin reflects by the
+/// averaged kernel's symmetry; mirror walls are not exact in r).
+fn validate_radial_scene<const D: usize>(
+    init: &[ParticleInit<D>],
+    domain: &Domain<D>,
+) -> Result<(), SolverError> {
+    if let Some(k) = init.iter().position(|p| !(p.position[0] >= 0.0)) {
+        return Err(SolverError::invalid(
+            &format!("particle {k} radius"),
+            init[k].position[0],
+            "r ≥ 0 in a radial geometry",
+        ));
+    }
+    if domain.lower[0] != Boundary::Open || domain.upper[0] != Boundary::Open {
+        return Err(SolverError::invalid(
+            "boundary",
+            format!("{:?}/{:?}", domain.lower[0], domain.upper[0]),
+            "open in a radial geometry (the origin reflects by symmetry)",
+        ));
+    }
+    Ok(())
 }
 
 fn validate_particles<const D: usize>(

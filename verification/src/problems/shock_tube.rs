@@ -18,8 +18,8 @@ use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, IdealGas, KernelShape,
-    Material, Simulation, SimulationConfig, SmoothingLength, SolverError, Vector,
+    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, Geometry, IdealGas,
+    KernelShape, Material, Simulation, SimulationConfig, SmoothingLength, SolverError, Vector,
 };
 use std::collections::BTreeMap;
 
@@ -154,6 +154,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
     let t_end = params.number("t_end", 1e-9, 10.0)?;
     let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
     let config = SimulationConfig {
+        geometry: Geometry::Planar,
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
         density: params.choice("density", &DensityMethod::ALL, DensityMethod::name)?,
         viscosity: ArtificialViscosity {

@@ -1,0 +1,424 @@
+//! One-dimensional SPH in r for flows with cylindrical or spherical symmetry: each particle is a
+//! ring (mass per unit length) or a shell (total mass) at radius r ≥ 0.
+//!
+//! The pair kernel is the ordinary 2D or 3D kernel averaged over the partner's ring or shell,
+//! W̃(r_i, r_j; h) = ⟨W_D(|x_i − x_j|, h)⟩ over the directions of x_j, which is what 2D or 3D
+//! SPH would sum if the partner's mass were spread evenly around the axis or the origin. With
+//! s² = (r_i − r_j)² + 4 r_i r_j sin²θ (θ half the angle between x_i and x_j):
+//! - cylindrical: W̃ = (2/π) ∫₀^{π/2} W₂(s, h) dθ,
+//! - spherical:   W̃ = ∫₀^{π/2} sin 2θ · W₃(s, h) dθ.
+//!
+//! W̃ is symmetric in r_i, r_j and finite at r = 0, so the origin needs no images and no
+//! special case: it reflects by symmetry. The equations follow from the Lagrangian
+//! L = Σ m_i (v_i²/2 − e_i(ρ_i)) with ρ_i = m_i W̃(r_i, r_i; h_i) + Σ_j m_j W̃(r_i, r_j; h̄_ij)
+//! (the self term depends on r_i: a pressurised shell pushes itself outwards), so total energy
+//! is conserved by the pair terms. This replaces the origin corrections of Omang, Børve &
+//! Trulsen (2006, J. Comput. Phys. 213, 391), who start from a 1D kernel, by the exact
+//! average of the multi-dimensional one.
+//!
+//! The θ integral is evaluated by Gauss–Legendre quadrature, split where s crosses the kernel's
+//! knots so that each piece is smooth.
+
+use crate::kernel::{Kernel, KernelShape};
+use crate::neighbours::NeighbourList;
+use crate::particles::Particles;
+use crate::physics::{signal_speed, ArtificialViscosity, EnergyEquation};
+use crate::Vector;
+use rayon::prelude::*;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The symmetry of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Geometry {
+    /// Cartesian coordinates in D dimensions.
+    Planar,
+    /// 1D in the distance from an axis; masses are per unit length.
+    Cylindrical,
+    /// 1D in the distance from a point; masses are those of whole shells.
+    Spherical,
+}
+
+impl Geometry {
+    pub const ALL: [Geometry; 3] = [Geometry::Planar, Geometry::Cylindrical, Geometry::Spherical];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Geometry::Planar => "planar",
+            Geometry::Cylindrical => "cylindrical",
+            Geometry::Spherical => "spherical",
+        }
+    }
+
+    /// The measure of a sphere of radius r in this geometry: 1 (planar, per unit area), 2πr
+    /// (per unit length) or 4πr².
+    pub fn area(self, r: f64) -> f64 {
+        match self {
+            Geometry::Planar => 1.0,
+            Geometry::Cylindrical => 2.0 * PI * r,
+            Geometry::Spherical => 4.0 * PI * r * r,
+        }
+    }
+
+    /// The volume (per unit area, per unit length, or whole) between radii r0 < r1.
+    pub fn volume_between(self, r0: f64, r1: f64) -> f64 {
+        match self {
+            Geometry::Planar => r1 - r0,
+            Geometry::Cylindrical => PI * (r1 * r1 - r0 * r0),
+            Geometry::Spherical => 4.0 / 3.0 * PI * (r1.powi(3) - r0.powi(3)),
+        }
+    }
+
+    /// The width Δ of the ring or shell centred at r that holds `volume`: the root of
+    /// volume_between(max(r − Δ/2, 0), r + Δ/2) = volume, by bisection (the left side grows
+    /// with Δ). At the innermost shell of an even spacing (r = Δ/2, the whole ball) this is
+    /// exactly Δ, where volume/area(r) is off by a third.
+    pub fn shell_width(self, r: f64, volume: f64) -> f64 {
+        let held = |width: f64| self.volume_between((r - 0.5 * width).max(0.0), r + 0.5 * width);
+        let mut hi = volume / self.area(r).max(f64::MIN_POSITIVE);
+        hi = hi.min(2.0 * r + (volume / self.volume_between(0.0, 1.0)).powf(1.0 / 3.0) + 1.0);
+        while held(hi) < volume {
+            hi *= 2.0;
+        }
+        let mut lo = 0.0;
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if held(mid) < volume {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+}
+
+/// Gauss–Legendre nodes and weights on [−1, 1], 8 points (exact for degree 15; Abramowitz &
+/// Stegun, Table 25.4).
+const GAUSS_NODES: [f64; 4] = [
+    0.183_434_642_495_649_8,
+    0.525_532_409_916_329_0,
+    0.796_666_477_413_626_7,
+    0.960_289_856_497_536_3,
+];
+const GAUSS_WEIGHTS: [f64; 4] = [
+    0.362_683_783_378_362_0,
+    0.313_706_645_877_887_3,
+    0.222_381_034_453_374_5,
+    0.101_228_536_290_376_3,
+];
+
+/// The most quadrature pieces per pair: two kernel knots, the support and graded pieces.
+const MAX_PIECES: usize = 16;
+/// The graded pieces start at u = max(gap, GRADING_START·h): below that the odd powers of s
+/// are resolved by the first piece already.
+const GRADING_START: f64 = 1.0 / 64.0;
+
+/// Where a kernel shape changes its polynomial piece (in units of h, inside the support).
+fn knots(shape: KernelShape) -> &'static [f64] {
+    match shape {
+        KernelShape::CubicSpline => &[1.0],
+        KernelShape::QuinticSpline => &[1.0, 2.0],
+        _ => &[],
+    }
+}
+
+/// The ring- or shell-averaged kernel W̃ and its derivative in the first radius.
+#[derive(Clone, Copy, Debug)]
+pub struct RadialKernel {
+    geometry: Geometry,
+    plane: Kernel<2>,
+    space: Kernel<3>,
+}
+
+impl RadialKernel {
+    /// The averaged kernel of `shape` for a cylindrical or spherical geometry.
+    pub fn new(geometry: Geometry, shape: KernelShape) -> Self {
+        assert!(
+            geometry != Geometry::Planar,
+            "planar scenes use the plain kernel"
+        );
+        Self {
+            geometry,
+            plane: Kernel::new(shape),
+            space: Kernel::new(shape),
+        }
+    }
+
+    /// (W, dW/ds) of the underlying 2D or 3D kernel.
+    #[inline]
+    fn base(&self, s: f64, h: f64) -> (f64, f64) {
+        match self.geometry {
+            Geometry::Cylindrical => (self.plane.value(s, h), self.plane.derivative(s, h)),
+            _ => (self.space.value(s, h), self.space.derivative(s, h)),
+        }
+    }
+
+    /// The angular weight of the average at half-angle θ.
+    #[inline]
+    fn weight(&self, theta: f64) -> f64 {
+        match self.geometry {
+            Geometry::Cylindrical => 2.0 / PI,
+            _ => (2.0 * theta).sin(),
+        }
+    }
+
+    /// (W̃(r_i, r_j; h), ∂W̃/∂r_i). Zero for |r_i − r_j| ≥ κh.
+    pub fn value_and_derivative(&self, r_i: f64, r_j: f64, h: f64) -> (f64, f64) {
+        let support = self.space.support_radius(h);
+        let gap2 = (r_i - r_j) * (r_i - r_j);
+        if gap2 >= support * support {
+            return (0.0, 0.0);
+        }
+        let product = 4.0 * r_i * r_j;
+        // the half-angle where s reaches a distance d (π/2 if it never does)
+        let angle_at = |d: f64| {
+            let sin2 = (d * d - gap2) / product;
+            if product > 0.0 && sin2 < 1.0 {
+                sin2.max(0.0).sqrt().asin()
+            } else {
+                FRAC_PI_2
+            }
+        };
+        let mut value = 0.0;
+        let mut derivative = 0.0;
+        let mut start = 0.0;
+        for d in self.piece_ends(gap2.sqrt(), h) {
+            let end = angle_at(d);
+            if end > start {
+                let (half, mid) = (0.5 * (end - start), 0.5 * (end + start));
+                for (x, w) in GAUSS_NODES.iter().zip(GAUSS_WEIGHTS) {
+                    for theta in [mid - half * x, mid + half * x] {
+                        let sin2 = theta.sin().powi(2);
+                        let s = (gap2 + product * sin2).sqrt();
+                        let (kernel, slope) = self.base(s, h);
+                        let weight = w * half * self.weight(theta);
+                        value += weight * kernel;
+                        if s > 0.0 {
+                            // ∂s/∂r_i = (r_i − r_j + 2 r_j sin²θ)/s
+                            derivative += weight * slope * (r_i - r_j + 2.0 * r_j * sin2) / s;
+                        }
+                    }
+                }
+            }
+            start = end;
+            if end >= FRAC_PI_2 {
+                break;
+            }
+        }
+        (value, derivative)
+    }
+
+    /// The distances s at which the quadrature pieces end, ascending, the last the support.
+    /// Besides the kernel's knots: odd powers of s = √(gap² + u²) (u = √(4 r_i r_j) sin θ)
+    /// change character over u ≈ gap, which a single Gauss rule over u ∈ [0, 2h] resolves
+    /// poorly when the gap is much shorter than h; pieces ending at u = gap·2^k, k = 0, 1, …
+    /// keep each piece's length comparable to its distance from that feature.
+    fn piece_ends(&self, gap: f64, h: f64) -> impl Iterator<Item = f64> {
+        let support = self.space.support_radius(h);
+        let mut ends = [0.0; MAX_PIECES];
+        let mut count = 0;
+        for &q in knots(self.space.shape()) {
+            if q * h > gap {
+                ends[count] = q * h;
+                count += 1;
+            }
+        }
+        let mut u = gap.max(GRADING_START * h);
+        while count < MAX_PIECES - 1 {
+            let d = (gap * gap + u * u).sqrt();
+            if d >= support {
+                break;
+            }
+            ends[count] = d;
+            count += 1;
+            u *= 2.0;
+        }
+        ends[count] = support;
+        count += 1;
+        ends[..count].sort_by(f64::total_cmp);
+        ends.into_iter().take(count)
+    }
+
+    /// d/dr W̃(r, r; h): how a ring's or shell's weight on itself changes as it moves, twice
+    /// ∂W̃/∂r_i at r_i = r_j by symmetry.
+    pub fn self_derivative(&self, r: f64, h: f64) -> f64 {
+        2.0 * self.value_and_derivative(r, r, h).1
+    }
+}
+
+/// ρ_i = m_i W̃(r_i, r_i; h_i) + Σ_j m_j W̃(r_i, r_j; h̄_ij).
+pub fn radial_density<const D: usize>(
+    particles: &mut Particles<D>,
+    neighbours: &NeighbourList,
+    kernel: &RadialKernel,
+) {
+    let p = &*particles;
+    let density: Vec<f64> = (0..p.n_real())
+        .into_par_iter()
+        .map(|i| {
+            let (r_i, h_i) = (p.position[i][0], p.smoothing_length[i]);
+            neighbours.of(i).fold(
+                p.mass[i] * kernel.value_and_derivative(r_i, r_i, h_i).0,
+                |rho, j| {
+                    let h = 0.5 * (h_i + p.smoothing_length[j]);
+                    rho + p.mass[j] * kernel.value_and_derivative(r_i, p.position[j][0], h).0
+                },
+            )
+        })
+        .collect();
+    particles.density[..density.len()].copy_from_slice(&density);
+}
+
+/// Radial momentum and energy rates (P = p/ρ², d₁ = ∂W̃_ij/∂r_i, d₂ = ∂W̃_ij/∂r_j,
+/// g = (d₁ − d₂)/2, s_i = dW̃(r_i, r_i; h_i)/dr):
+/// Dv_i/Dt = −Σ_j m_j [(P_i + P_j) d₁ + Π_ij g] − m_i P_i s_i,
+/// De_i/Dt = P_i [Σ_j m_j (v_i d₁ + v_j d₂) + m_i v_i s_i] + ½ Σ_j m_j Π_ij (v_i − v_j) g
+/// (own-pressure form; the symmetric form shares (P_i + P_j)/2 instead of P_i). The viscous
+/// gradient g is antisymmetric, so viscosity moves energy between kinetic and thermal and
+/// creates none.
+pub fn radial_rates<const D: usize>(
+    particles: &mut Particles<D>,
+    neighbours: &NeighbourList,
+    kernel: &RadialKernel,
+    viscosity: &ArtificialViscosity,
+    energy: EnergyEquation,
+) {
+    let p = &*particles;
+    let pressure_term: Vec<f64> = (0..p.len())
+        .map(|k| p.pressure[k] / (p.density[k] * p.density[k]))
+        .collect();
+    let rates: Vec<(f64, f64, f64)> = (0..p.n_real())
+        .into_par_iter()
+        .map(|i| {
+            let (r_i, v_i, h_i, m_i) = (
+                p.position[i][0],
+                p.velocity[i][0],
+                p.smoothing_length[i],
+                p.mass[i],
+            );
+            let own = pressure_term[i];
+            let self_slope = kernel.self_derivative(r_i, h_i);
+            let mut acceleration = -m_i * own * self_slope;
+            let mut heating = own * m_i * v_i * self_slope;
+            let mut v_sig = p.sound_speed[i];
+            for j in neighbours.of(i) {
+                let (r_j, v_j, m_j) = (p.position[j][0], p.velocity[j][0], p.mass[j]);
+                let h = 0.5 * (h_i + p.smoothing_length[j]);
+                let d1 = kernel.value_and_derivative(r_i, r_j, h).1;
+                let d2 = kernel.value_and_derivative(r_j, r_i, h).1;
+                let g = 0.5 * (d1 - d2);
+                let (x_ij, v_ij) = (r_i - r_j, v_i - v_j);
+                let c_mean = 0.5 * (p.sound_speed[i] + p.sound_speed[j]);
+                let rho_mean = 0.5 * (p.density[i] + p.density[j]);
+                let pi_ij = viscosity.pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean);
+                let pressure_sum = own + pressure_term[j];
+                acceleration -= m_j * (pressure_sum * d1 + pi_ij * g);
+                let compression = m_j * (v_i * d1 + v_j * d2);
+                heating += match energy {
+                    EnergyEquation::OwnPressure => own * compression,
+                    EnergyEquation::Symmetric => 0.5 * pressure_sum * compression,
+                } + 0.5 * m_j * pi_ij * v_ij * g;
+                let approach = if x_ij == 0.0 {
+                    0.0
+                } else {
+                    v_ij * x_ij.signum()
+                };
+                v_sig = v_sig.max(signal_speed(p.sound_speed[i], p.sound_speed[j], approach));
+            }
+            (acceleration, heating, v_sig)
+        })
+        .collect();
+    let p = particles;
+    for (i, (acceleration, heating, v_sig)) in rates.into_iter().enumerate() {
+        p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { acceleration } else { 0.0 });
+        p.energy_rate[i] = heating;
+        p.signal_speed[i] = v_sig;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The average by brute force: the midpoint rule over the full angle with many points.
+    fn brute_average(geometry: Geometry, shape: KernelShape, r_i: f64, r_j: f64, h: f64) -> f64 {
+        let n = 200_000;
+        let dphi = PI / n as f64;
+        (0..n)
+            .map(|k| {
+                let phi = (k as f64 + 0.5) * dphi;
+                let s = (r_i * r_i + r_j * r_j - 2.0 * r_i * r_j * phi.cos())
+                    .max(0.0)
+                    .sqrt();
+                match geometry {
+                    Geometry::Cylindrical => Kernel::<2>::new(shape).value(s, h) / PI,
+                    _ => 0.5 * phi.sin() * Kernel::<3>::new(shape).value(s, h),
+                }
+            })
+            .sum::<f64>()
+            * dphi
+    }
+
+    #[test]
+    fn quadrature_matches_a_brute_force_average() {
+        for geometry in [Geometry::Cylindrical, Geometry::Spherical] {
+            for shape in KernelShape::ALL {
+                let kernel = RadialKernel::new(geometry, shape);
+                for (r_i, r_j) in [(0.0, 0.7), (0.3, 0.3), (0.5, 1.1), (2.0, 2.9), (10.0, 10.4)] {
+                    let h = 0.5;
+                    let got = kernel.value_and_derivative(r_i, r_j, h).0;
+                    let want = brute_average(geometry, shape, r_i, r_j, h);
+                    let scale = Kernel::<3>::new(shape).value(0.0, h);
+                    assert!(
+                        (got - want).abs() < 1e-6 * scale,
+                        "{geometry:?} {shape:?} ({r_i}, {r_j}): {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn derivative_matches_a_central_difference() {
+        for geometry in [Geometry::Cylindrical, Geometry::Spherical] {
+            let kernel = RadialKernel::new(geometry, KernelShape::CubicSpline);
+            for (r_i, r_j) in [(0.2, 0.5), (0.5, 0.2), (1.0, 1.3), (5.0, 4.4), (0.8, 0.8)] {
+                let h = 0.4;
+                let eps = 1e-6;
+                let numeric = (kernel.value_and_derivative(r_i + eps, r_j, h).0
+                    - kernel.value_and_derivative(r_i - eps, r_j, h).0)
+                    / (2.0 * eps);
+                let analytic = kernel.value_and_derivative(r_i, r_j, h).1;
+                assert!(
+                    (analytic - numeric).abs() < 1e-6 * (1.0 + numeric.abs()),
+                    "{geometry:?} ({r_i}, {r_j}): {analytic} vs {numeric}"
+                );
+            }
+        }
+    }
+
+    /// Spreading unit mass over a ring or shell at r_i and summing its weight over all space
+    /// gives one: ∫ W̃(r_i, r; h) A(r) dr = 1 with A the ring or shell measure.
+    #[test]
+    fn averaged_kernel_has_unit_integral() {
+        for geometry in [Geometry::Cylindrical, Geometry::Spherical] {
+            let kernel = RadialKernel::new(geometry, KernelShape::CubicSpline);
+            for r_i in [0.0, 0.1, 0.6, 3.0] {
+                let h = 0.3;
+                let n = 20_000;
+                let r_max = r_i + 2.0 * h;
+                let dr = r_max / n as f64;
+                let total: f64 = (0..n)
+                    .map(|k| {
+                        let r = (k as f64 + 0.5) * dr;
+                        kernel.value_and_derivative(r_i, r, h).0 * geometry.area(r) * dr
+                    })
+                    .sum();
+                assert!(
+                    (total - 1.0).abs() < 1e-6,
+                    "{geometry:?} r = {r_i}: {total}"
+                );
+            }
+        }
+    }
+}
