@@ -4,7 +4,7 @@
 use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
-use blastsph_verification::sedov::{Geometry, SedovBlast};
+use blastsph_verification::sedov::{geometry_named, SedovBlast};
 use blastsph_verification::{problems, report, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -297,7 +297,7 @@ fn sedov_command(
     time: f64,
     json: bool,
 ) -> Result<(), VerifyError> {
-    let geometry = Geometry::from_name(geometry).ok_or_else(|| {
+    let geometry = geometry_named(geometry).ok_or_else(|| {
         VerifyError::bad_value("--geometry", geometry, "planar, cylindrical or spherical")
     })?;
     let blast = SedovBlast::new(geometry, gamma, energy, rho0, time)?;

@@ -88,3 +88,48 @@ fn sod_and_toro_1_agree() {
     let toro = run("toro-1", &[("n_left", "100")]);
     assert_eq!(sod.profile, toro.profile);
 }
+
+/// The Sedov blasts at quick level: shock radius within 1 % (1D radial) or 4 % (2D, 3D) of the
+/// exact one, energy within 1e-3, L1(ρ) and the binned peak improving with resolution, the
+/// 1D radial peak at least 70 % of (γ+1)/(γ−1)·ρ0, the 2D/3D radius the same in every direction
+/// within 3 %. The records carry the shock radius, peak and errors of every run.
+#[test]
+fn sedov_blasts_pass_their_quick_checks() {
+    for (name, radius_limit) in [
+        ("sedov-spherical-1d", 0.01),
+        ("sedov-2d", 0.04),
+        ("sedov-3d", 0.04),
+    ] {
+        let out = run(name, &[]);
+        assert_all_checks_pass(&out);
+        let r = &out.record;
+        assert!(r
+            .checks
+            .iter()
+            .any(|c| c.name.starts_with("shock_radius_relative_error") && c.limit == radius_limit));
+        for run in &r.runs {
+            for key in [
+                "r_shock_binned",
+                "r_shock_densest_particle",
+                "energy_relative_error",
+            ] {
+                assert!(
+                    run.metrics.contains_key(key),
+                    "{name}: {} lacks {key}",
+                    run.label
+                );
+            }
+        }
+        if name == "sedov-spherical-1d" {
+            assert!(r
+                .checks
+                .iter()
+                .any(|c| c.name.starts_with("peak_density_binned") && c.limit == 0.70));
+        } else {
+            assert!(r
+                .checks
+                .iter()
+                .any(|c| c.name.starts_with("shock_radius_direction_spread") && c.limit == 0.03));
+        }
+    }
+}

@@ -141,16 +141,38 @@ impl Params {
         options: &[T],
         name: impl Fn(T) -> &'static str,
     ) -> Result<T, VerifyError> {
-        let raw = self.raw(key).trim();
-        options
-            .iter()
-            .copied()
-            .find(|&o| name(o) == raw)
-            .ok_or_else(|| {
-                let names: Vec<&str> = options.iter().map(|&o| name(o)).collect();
-                VerifyError::bad_value(key, raw, &format!("one of {}", names.join(", ")))
-            })
+        lookup(key, self.raw(key).trim(), options, &name)
     }
+
+    /// A comma-separated list of `options`, each named by `name`.
+    pub fn choices<T: Copy>(
+        &self,
+        key: &str,
+        options: &[T],
+        name: impl Fn(T) -> &'static str,
+    ) -> Result<Vec<T>, VerifyError> {
+        self.raw(key)
+            .split(',')
+            .map(|item| lookup(key, item.trim(), options, &name))
+            .collect()
+    }
+}
+
+/// The option called `raw`, or an error listing the names.
+fn lookup<T: Copy>(
+    key: &str,
+    raw: &str,
+    options: &[T],
+    name: &impl Fn(T) -> &'static str,
+) -> Result<T, VerifyError> {
+    options
+        .iter()
+        .copied()
+        .find(|&o| name(o) == raw)
+        .ok_or_else(|| {
+            let names: Vec<&str> = options.iter().map(|&o| name(o)).collect();
+            VerifyError::bad_value(key, raw, &format!("one of {}", names.join(", ")))
+        })
 }
 
 /// Parses `KEY=VALUE`.

@@ -45,6 +45,9 @@ impl Check {
 #[derive(Clone, Debug, Serialize)]
 pub struct Run {
     pub label: String,
+    /// The formulation the run used (smoothing length and density method), which names its
+    /// series in the work–precision plot; empty where a problem has only one.
+    pub formulation: String,
     pub n_particles: usize,
     pub steps: u64,
     pub wall_s: f64,

@@ -78,6 +78,7 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
     let mut csv = csv::Writer::from_writer(Vec::new());
     csv.write_record([
         "problem",
+        "formulation",
         "run",
         "n_particles",
         "steps",
@@ -94,14 +95,16 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
         y_label: format!("log10 {WORK_PRECISION_ERROR}"),
         series: Vec::new(),
     };
+    // one series per problem and formulation, in order of first appearance
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for record in records {
-        let mut points = Vec::new();
         for run in record.runs.iter().filter(|r| r.failure.is_none()) {
             let Some(&error) = run.errors.get(WORK_PRECISION_ERROR) else {
                 continue;
             };
             csv.write_record([
                 record.problem.clone(),
+                run.formulation.clone(),
                 run.label.clone(),
                 run.n_particles.to_string(),
                 run.steps.to_string(),
@@ -110,17 +113,26 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
             ])
             .expect("writing to memory");
             if run.wall_s > 0.0 && error > 0.0 {
-                points.push((run.wall_s.log10(), error.log10()));
+                let label = if run.formulation.is_empty() {
+                    record.problem.clone()
+                } else {
+                    format!("{} ({})", record.problem, run.formulation)
+                };
+                let point = (run.wall_s.log10(), error.log10());
+                match series.iter_mut().find(|(l, _)| *l == label) {
+                    Some((_, points)) => points.push(point),
+                    None => series.push((label, vec![point])),
+                }
             }
         }
-        if !points.is_empty() {
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            panel.series.push(Series {
-                label: record.problem.clone(),
-                points,
-                style: Style::LineMarkers,
-            });
-        }
+    }
+    for (label, mut points) in series {
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        panel.series.push(Series {
+            label,
+            points,
+            style: Style::LineMarkers,
+        });
     }
     let figure = Figure {
         title: "work–precision".into(),

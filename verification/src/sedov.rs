@@ -10,46 +10,37 @@
 //! R = ξ0 (E t²/ρ0)^(1/(j+2)) with ξ0 = α^(−1/(j+2)).
 
 use crate::VerifyError;
+pub use blastsph_solver::Geometry;
 use serde::Serialize;
 use std::f64::consts::PI;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Geometry {
-    Planar,
-    Cylindrical,
-    Spherical,
+/// j = 1, 2, 3: the power of r in the volume element, dV ∝ r^(j−1) dr.
+fn index(geometry: Geometry) -> f64 {
+    match geometry {
+        Geometry::Planar => 1.0,
+        Geometry::Cylindrical => 2.0,
+        Geometry::Spherical => 3.0,
+    }
 }
 
-impl Geometry {
-    /// j = 1, 2, 3.
-    pub fn index(self) -> f64 {
-        match self {
-            Geometry::Planar => 1.0,
-            Geometry::Cylindrical => 2.0,
-            Geometry::Spherical => 3.0,
-        }
+/// Measure of the unit "sphere": dV = A r^(j−1) dr. Planar: A = 1, the energy per unit area on
+/// one side of the symmetry plane (Kamm & Timmes' convention; their planar α = 0.5385 for
+/// γ = 1.4 is the one-sided integral).
+fn area_factor(geometry: Geometry) -> f64 {
+    match geometry {
+        Geometry::Planar => 1.0,
+        Geometry::Cylindrical => 2.0 * PI,
+        Geometry::Spherical => 4.0 * PI,
     }
+}
 
-    /// Measure of the unit "sphere": dV = A r^(j−1) dr. Planar: A = 1, the energy per unit
-    /// area on one side of the symmetry plane (Kamm & Timmes' convention; their planar α =
-    /// 0.5385 for γ = 1.4 is the one-sided integral).
-    fn area_factor(self) -> f64 {
-        match self {
-            Geometry::Planar => 1.0,
-            Geometry::Cylindrical => 2.0 * PI,
-            Geometry::Spherical => 4.0 * PI,
-        }
-    }
+/// The geometry called `name` (planar, cylindrical, spherical).
+pub fn geometry_named(name: &str) -> Option<Geometry> {
+    Geometry::ALL.into_iter().find(|g| g.name() == name)
+}
 
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "planar" => Some(Geometry::Planar),
-            "cylindrical" => Some(Geometry::Cylindrical),
-            "spherical" => Some(Geometry::Spherical),
-            _ => None,
-        }
-    }
+fn serialize_geometry<S: serde::Serializer>(g: &Geometry, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(g.name())
 }
 
 /// The similarity solution of one geometry and γ (independent of E, ρ0, t).
@@ -97,7 +88,7 @@ impl Similarity {
                 "1 < γ < 7 (the standard Sedov case)",
             ));
         }
-        let j = geometry.index();
+        let j = index(geometry);
         let g = gamma;
         let j2 = j + 2.0;
         let a = j2 * (g + 1.0) / 4.0;
@@ -136,7 +127,7 @@ impl Similarity {
 
     fn at(&self, v: f64) -> ProfilePoint {
         let g = self.gamma;
-        let j = self.geometry.index();
+        let j = index(self.geometry);
         let x1 = self.a * v;
         let x2 = self.b * (self.c * v - 1.0);
         let x3 = self.d * (1.0 - self.e * v);
@@ -161,7 +152,7 @@ impl Similarity {
     /// p̂ = p t²/(ρ0 R²), from the post-shock state ρ2 = bρ0, u2 = 4R/((j+2)(γ+1)t),
     /// p2 = 2ρ0 (2R/((j+2)t))²/(γ+1).
     fn energy_quadrature(&self) -> f64 {
-        let (g, j) = (self.gamma, self.geometry.index());
+        let (g, j) = (self.gamma, index(self.geometry));
         let shock_speed = 2.0 / (j + 2.0);
         let (rho2, u2, p2) = (
             self.b,
@@ -184,7 +175,7 @@ impl Similarity {
                 0.5 * (integrand(&previous) + integrand(&point)) * (point.lambda - previous.lambda);
             previous = point;
         }
-        self.geometry.area_factor() * sum
+        area_factor(self.geometry) * sum
     }
 
     /// The profile at λ = r/R ∈ [0, 1] (bisection on V, monotone in λ).
@@ -205,6 +196,7 @@ impl Similarity {
 /// A dimensional Sedov blast: energy E into uniform density ρ0 at t = 0, seen at time t.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct SedovBlast {
+    #[serde(serialize_with = "serialize_geometry")]
     pub geometry: Geometry,
     pub gamma: f64,
     pub energy: f64,
@@ -244,7 +236,7 @@ impl SedovBlast {
             }
         }
         let similarity = Similarity::new(geometry, gamma)?;
-        let j = geometry.index();
+        let j = index(geometry);
         let alpha = similarity.energy_integral;
         let xi0 = alpha.powf(-1.0 / (j + 2.0));
         let r_shock = xi0 * (energy * time * time / rho0).powf(1.0 / (j + 2.0));
@@ -309,7 +301,7 @@ mod tests {
             .filter(|l| !l.starts_with('#') && !l.starts_with("geometry"))
         {
             let f: Vec<&str> = line.split(',').collect();
-            let geometry = Geometry::from_name(f[0]).unwrap();
+            let geometry = geometry_named(f[0]).unwrap();
             let v: Vec<f64> = f[1..].iter().map(|x| x.parse().unwrap()).collect();
             let blast = SedovBlast::new(geometry, 1.4, v[0], 1.0, 1.0).unwrap();
             assert!(
@@ -321,7 +313,7 @@ mod tests {
             let at_table = SedovBlast::new(
                 geometry,
                 1.4,
-                blast.energy_integral * v[1].powf(geometry.index() + 2.0),
+                blast.energy_integral * v[1].powf(index(geometry) + 2.0),
                 1.0,
                 1.0,
             )
@@ -354,13 +346,13 @@ mod tests {
             assert!((behind.p / blast.p2 - 1.0).abs() < 1e-6);
             let n = 4000;
             let dr = blast.r_shock / n as f64;
-            let j = geometry.index();
+            let j = index(geometry);
             let energy: f64 = (0..n)
                 .map(|k| {
                     let r = (k as f64 + 0.5) * dr;
                     let s = blast.state_at(r);
                     (0.5 * s.rho * s.u * s.u + s.p / (blast.gamma - 1.0))
-                        * geometry.area_factor()
+                        * area_factor(geometry)
                         * r.powf(j - 1.0)
                         * dr
                 })

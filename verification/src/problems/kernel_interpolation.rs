@@ -130,6 +130,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
         );
         errors.insert("cspm_derivative_max_error".into(), cspm_err);
         runs.push(Run {
+            formulation: String::new(),
             label: format!("h = {h}"),
             n_particles: data_x.len(),
             steps: 0,

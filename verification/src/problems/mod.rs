@@ -2,6 +2,7 @@
 //! exact answer, checks with justified limits.
 
 mod kernel_interpolation;
+mod sedov_blast;
 mod shock_tube;
 
 use crate::params::{ParamSpec, Params};
@@ -20,6 +21,7 @@ pub struct ProblemInfo {
 pub fn all() -> Vec<ProblemInfo> {
     let mut list = vec![kernel_interpolation::info()];
     list.extend(shock_tube::infos());
+    list.extend(sedov_blast::infos());
     list
 }
 
@@ -50,6 +52,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if sedov_blast::is_sedov(name) {
+        sedov_blast::run(name, &params, level, progress)?
     } else {
         shock_tube::run(name, &params, progress)?
     };

@@ -294,6 +294,11 @@ impl SplitMix64 {
     }
 }
 
+/// "density, smoothing length": what distinguishes one work–precision curve from another.
+pub(crate) fn formulation(config: &SimulationConfig) -> String {
+    format!("{}, {}", config.density.name(), config.smoothing.name())
+}
+
 fn run_tube(
     s: &Settings,
     n_left: usize,
@@ -319,6 +324,7 @@ fn run_tube(
         Err(diagnosis) => {
             let run = Run {
                 label: format!("n_left = {n_left}"),
+                formulation: formulation(&s.config),
                 n_particles: init.len(),
                 steps: 0,
                 wall_s: start.elapsed().as_secs_f64(),
@@ -382,6 +388,7 @@ fn run_tube(
     metrics.insert("wall_impulse".into(), sim.wall_impulse()[0]);
     let mut run = Run {
         label: format!("n_left = {n_left}"),
+        formulation: formulation(&s.config),
         n_particles: n,
         steps: sim.steps(),
         wall_s,
