@@ -58,7 +58,10 @@ const VARIANTS: [Variant; 3] = [
         energy: 0.851072,
         t_end: 1.0,
         resolutions: ("100,200", "100,200,400,800"),
-        formulations: ("follow-density", "follow-density,fixed"),
+        // fixed h is available (--set smoothing=follow-density,fixed) but not run by default:
+        // h cannot grow in the emptied centre, where the sound speed is huge, so the step
+        // stays small: 55 000 steps and 108 s at 200 shells against 6 000 steps and 8 s
+        formulations: ("follow-density", "follow-density"),
         eta: 1.2,
         // the limit, the same at both levels
         radius_limit: (0.01, 0.01),
