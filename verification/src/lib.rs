@@ -69,6 +69,24 @@ pub enum VerifyError {
 }
 
 impl VerifyError {
+    /// Sorts what `Simulation::new` refused: a parameter out of range is the caller's bad input
+    /// (returned as the error), anything else is the run's diagnosis (returned as text for the
+    /// record: the problem reports the failed run and goes on).
+    pub fn from_scene(error: blastsph_solver::SolverError) -> Result<String, VerifyError> {
+        match error {
+            blastsph_solver::SolverError::InvalidParameter {
+                field,
+                value,
+                allowed,
+            } => Err(VerifyError::BadValue {
+                field,
+                value,
+                allowed,
+            }),
+            diagnosis => Ok(diagnosis.to_string()),
+        }
+    }
+
     pub fn bad_value(field: &str, value: impl std::fmt::Display, allowed: &str) -> Self {
         VerifyError::BadValue {
             field: field.to_string(),

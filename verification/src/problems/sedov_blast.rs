@@ -26,7 +26,7 @@ use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, EquationOfState,
     Geometry, IdealGas, Kernel, KernelShape, Material, Simulation, SimulationConfig,
-    SmoothingLength, SolverError, Vector,
+    SmoothingLength, Vector,
 };
 use std::collections::BTreeMap;
 
@@ -295,19 +295,9 @@ fn run_blast<const D: usize>(
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<D>::new(&init, vec![gas], domain, s.config) {
         Ok(sim) => sim,
-        Err(SolverError::InvalidParameter {
-            field,
-            value,
-            allowed,
-        }) => {
-            return Err(VerifyError::BadValue {
-                field,
-                value,
-                allowed,
-            })
-        }
-        Err(diagnosis) => {
-            run.failure = Some(diagnosis.to_string());
+        Err(refused) => {
+            let diagnosis = VerifyError::from_scene(refused)?;
+            run.failure = Some(diagnosis);
             return Ok(BlastRun { run, state: None });
         }
     };

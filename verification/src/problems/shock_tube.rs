@@ -19,7 +19,7 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, Geometry, IdealGas,
-    KernelShape, Material, Simulation, SimulationConfig, SmoothingLength, SolverError, Vector,
+    KernelShape, Material, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
 use std::collections::BTreeMap;
 
@@ -310,18 +310,8 @@ fn run_tube(
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<1>::new(&init, vec![gas], domain, s.config) {
         Ok(sim) => sim,
-        Err(SolverError::InvalidParameter {
-            field,
-            value,
-            allowed,
-        }) => {
-            return Err(VerifyError::BadValue {
-                field,
-                value,
-                allowed,
-            })
-        }
-        Err(diagnosis) => {
+        Err(refused) => {
+            let diagnosis = VerifyError::from_scene(refused)?;
             let run = Run {
                 label: format!("n_left = {n_left}"),
                 formulation: formulation(&s.config),
@@ -335,7 +325,7 @@ fn run_tube(
                     .collect(),
                 metrics: BTreeMap::new(),
                 phase_s: BTreeMap::new(),
-                failure: Some(diagnosis.to_string()),
+                failure: Some(diagnosis),
             };
             return Ok(TubeRun { run, profile: None });
         }
