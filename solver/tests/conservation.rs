@@ -15,10 +15,12 @@ fn noise(k: usize, salt: u64) -> f64 {
     2.0 * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 1.0
 }
 
-/// n^D particles on a jittered lattice in the unit box with random velocities (Mach ~0.3) and
-/// a random pressure field, so that every term (pressure, viscosity, heating) is active.
-fn gas_box<const D: usize>(
+/// n^D particles on a lattice in the unit box, each displaced by up to `jitter` spacings at
+/// random, with velocity and pressure from `state(k, x)`; ρ = 1.
+fn lattice_box<const D: usize>(
     n: usize,
+    jitter: f64,
+    state: impl Fn(usize, &Vector<D>) -> (Vector<D>, f64),
     boundary: Boundary,
     config: SimulationConfig,
 ) -> Simulation<D> {
@@ -28,10 +30,9 @@ fn gas_box<const D: usize>(
         .map(|k| {
             let position = Vector::<D>::from_fn(|a, _| {
                 let index = (k / n.pow(a as u32)) % n;
-                (index as f64 + 0.5 + 0.1 * noise(k, a as u64)) * dx
+                (index as f64 + 0.5 + jitter * noise(k, a as u64)) * dx
             });
-            let velocity = Vector::<D>::from_fn(|a, _| 0.3 * noise(k, 10 + a as u64));
-            let pressure = 1.0 + 0.2 * noise(k, 99);
+            let (velocity, pressure) = state(k, &position);
             ParticleInit {
                 position,
                 velocity,
@@ -45,6 +46,20 @@ fn gas_box<const D: usize>(
         .collect();
     let domain = Domain::new(Vector::zeros(), Vector::repeat(1.0), [boundary; D]);
     Simulation::new(&init, vec![Material::new("air", gas)], domain, config).unwrap()
+}
+
+/// A jittered lattice with random velocities (Mach ~0.3) and a random pressure field, so that
+/// every term (pressure, viscosity, heating) is active.
+fn gas_box<const D: usize>(
+    n: usize,
+    boundary: Boundary,
+    config: SimulationConfig,
+) -> Simulation<D> {
+    let random_state = |k: usize, _: &Vector<D>| {
+        let velocity = Vector::<D>::from_fn(|a, _| 0.3 * noise(k, 10 + a as u64));
+        (velocity, 1.0 + 0.2 * noise(k, 99))
+    };
+    lattice_box(n, 0.1, random_state, boundary, config)
 }
 
 /// Runs `steps` steps and returns (|ΔP − J| / Σm(|v|+c), round-off bound, |ΔE|/E).
@@ -424,35 +439,12 @@ fn grad_h_needs_summation_density() {
     );
 }
 
-/// n^D particles on a lattice in a periodic unit box at rest, with a hot spot in the middle
-/// (pressure up to 40× the background): the density changes by tens of per cent within a few
-/// steps, so h changes too.
+/// A periodic box at rest with a hot spot in the middle (pressure up to 3× the background):
+/// the density changes by tens of per cent within a few steps, so h changes too.
 fn hot_spot_box<const D: usize>(n: usize, config: SimulationConfig) -> Simulation<D> {
-    let dx = 1.0 / n as f64;
-    let gas = IdealGas::new(1.4).unwrap();
-    let init: Vec<ParticleInit<D>> = (0..n.pow(D as u32))
-        .map(|k| {
-            let position = Vector::<D>::from_fn(|a, _| {
-                let index = (k / n.pow(a as u32)) % n;
-                (index as f64 + 0.5 + 0.05 * noise(k, a as u64)) * dx
-            });
-            let r2 = (position - Vector::repeat(0.5)).norm_squared();
-            let pressure = 1.0 + 2.0 * (-r2 / 0.01).exp();
-            ParticleInit {
-                position,
-                velocity: Vector::zeros(),
-                mass: dx.powi(D as i32),
-                smoothing_length: 1.2 * dx,
-                density: 1.0,
-                internal_energy: gas.internal_energy(1.0, pressure),
-                material: 0,
-            }
-        })
-        .collect();
-    let domain = Domain::new(
-        Vector::zeros(),
-        Vector::repeat(1.0),
-        [Boundary::Periodic; D],
-    );
-    Simulation::new(&init, vec![Material::new("air", gas)], domain, config).unwrap()
+    let hot_spot = |_: usize, x: &Vector<D>| {
+        let r2 = (x - Vector::repeat(0.5)).norm_squared();
+        (Vector::zeros(), 1.0 + 2.0 * (-r2 / 0.01).exp())
+    };
+    lattice_box(n, 0.05, hot_spot, Boundary::Periodic, config)
 }
