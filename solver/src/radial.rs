@@ -162,12 +162,12 @@ impl RadialKernel {
         }
     }
 
-    /// (W̃(r_i, r_j; h), ∂W̃/∂r_i). Zero for |r_i − r_j| ≥ κh.
-    pub fn value_and_derivative(&self, r_i: f64, r_j: f64, h: f64) -> (f64, f64) {
+    /// (W̃(r_i, r_j; h), ∂W̃/∂r_i, ∂W̃/∂r_j) from one quadrature. Zero for |r_i − r_j| ≥ κh.
+    pub fn value_and_derivatives(&self, r_i: f64, r_j: f64, h: f64) -> (f64, f64, f64) {
         let support = self.space.support_radius(h);
         let gap2 = (r_i - r_j) * (r_i - r_j);
         if gap2 >= support * support {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0.0);
         }
         let product = 4.0 * r_i * r_j;
         // the half-angle where s reaches a distance d (π/2 if it never does)
@@ -179,8 +179,7 @@ impl RadialKernel {
                 FRAC_PI_2
             }
         };
-        let mut value = 0.0;
-        let mut derivative = 0.0;
+        let (mut value, mut d_first, mut d_second) = (0.0, 0.0, 0.0);
         let mut start = 0.0;
         for d in self.piece_ends(gap2.sqrt(), h) {
             let end = angle_at(d);
@@ -194,8 +193,10 @@ impl RadialKernel {
                         let weight = w * half * self.weight(theta);
                         value += weight * kernel;
                         if s > 0.0 {
-                            // ∂s/∂r_i = (r_i − r_j + 2 r_j sin²θ)/s
-                            derivative += weight * slope * (r_i - r_j + 2.0 * r_j * sin2) / s;
+                            // ∂s/∂r_i = (r_i − r_j + 2 r_j sin²θ)/s, and i ↔ j for ∂s/∂r_j
+                            let factor = weight * slope / s;
+                            d_first += factor * (r_i - r_j + 2.0 * r_j * sin2);
+                            d_second += factor * (r_j - r_i + 2.0 * r_i * sin2);
                         }
                     }
                 }
@@ -205,7 +206,7 @@ impl RadialKernel {
                 break;
             }
         }
-        (value, derivative)
+        (value, d_first, d_second)
     }
 
     /// The distances s at which the quadrature pieces end, ascending, the last the support.
@@ -242,7 +243,7 @@ impl RadialKernel {
     /// d/dr W̃(r, r; h): how a ring's or shell's weight on itself changes as it moves, twice
     /// ∂W̃/∂r_i at r_i = r_j by symmetry.
     pub fn self_derivative(&self, r: f64, h: f64) -> f64 {
-        2.0 * self.value_and_derivative(r, r, h).1
+        2.0 * self.value_and_derivatives(r, r, h).1
     }
 }
 
@@ -258,10 +259,10 @@ pub fn radial_density<const D: usize>(
         .map(|i| {
             let (r_i, h_i) = (p.position[i][0], p.smoothing_length[i]);
             neighbours.of(i).fold(
-                p.mass[i] * kernel.value_and_derivative(r_i, r_i, h_i).0,
+                p.mass[i] * kernel.value_and_derivatives(r_i, r_i, h_i).0,
                 |rho, j| {
                     let h = 0.5 * (h_i + p.smoothing_length[j]);
-                    rho + p.mass[j] * kernel.value_and_derivative(r_i, p.position[j][0], h).0
+                    rho + p.mass[j] * kernel.value_and_derivatives(r_i, p.position[j][0], h).0
                 },
             )
         })
@@ -304,8 +305,7 @@ pub fn radial_rates<const D: usize>(
             for j in neighbours.of(i) {
                 let (r_j, v_j, m_j) = (p.position[j][0], p.velocity[j][0], p.mass[j]);
                 let h = 0.5 * (h_i + p.smoothing_length[j]);
-                let d1 = kernel.value_and_derivative(r_i, r_j, h).1;
-                let d2 = kernel.value_and_derivative(r_j, r_i, h).1;
+                let (_, d1, d2) = kernel.value_and_derivatives(r_i, r_j, h);
                 let g = 0.5 * (d1 - d2);
                 let (x_ij, v_ij) = (r_i - r_j, v_i - v_j);
                 let c_mean = 0.5 * (p.sound_speed[i] + p.sound_speed[j]);
@@ -366,7 +366,7 @@ mod tests {
                 let kernel = RadialKernel::new(geometry, shape);
                 for (r_i, r_j) in [(0.0, 0.7), (0.3, 0.3), (0.5, 1.1), (2.0, 2.9), (10.0, 10.4)] {
                     let h = 0.5;
-                    let got = kernel.value_and_derivative(r_i, r_j, h).0;
+                    let got = kernel.value_and_derivatives(r_i, r_j, h).0;
                     let want = brute_average(geometry, shape, r_i, r_j, h);
                     let scale = Kernel::<3>::new(shape).value(0.0, h);
                     assert!(
@@ -385,14 +385,17 @@ mod tests {
             for (r_i, r_j) in [(0.2, 0.5), (0.5, 0.2), (1.0, 1.3), (5.0, 4.4), (0.8, 0.8)] {
                 let h = 0.4;
                 let eps = 1e-6;
-                let numeric = (kernel.value_and_derivative(r_i + eps, r_j, h).0
-                    - kernel.value_and_derivative(r_i - eps, r_j, h).0)
+                let numeric = (kernel.value_and_derivatives(r_i + eps, r_j, h).0
+                    - kernel.value_and_derivatives(r_i - eps, r_j, h).0)
                     / (2.0 * eps);
-                let analytic = kernel.value_and_derivative(r_i, r_j, h).1;
+                let (_, analytic, second) = kernel.value_and_derivatives(r_i, r_j, h);
                 assert!(
                     (analytic - numeric).abs() < 1e-6 * (1.0 + numeric.abs()),
                     "{geometry:?} ({r_i}, {r_j}): {analytic} vs {numeric}"
                 );
+                // W̃ is symmetric, so ∂W̃/∂r_j at (r_i, r_j) is ∂W̃/∂r_i at (r_j, r_i)
+                let swapped = kernel.value_and_derivatives(r_j, r_i, h).1;
+                assert!((second - swapped).abs() < 1e-12 * (1.0 + swapped.abs()));
             }
         }
     }
@@ -411,7 +414,7 @@ mod tests {
                 let total: f64 = (0..n)
                     .map(|k| {
                         let r = (k as f64 + 0.5) * dr;
-                        kernel.value_and_derivative(r_i, r, h).0 * geometry.area(r) * dr
+                        kernel.value_and_derivatives(r_i, r, h).0 * geometry.area(r) * dr
                     })
                     .sum();
                 assert!(
