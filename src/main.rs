@@ -278,6 +278,16 @@ fn materials_command(json: bool) {
                     p.value, p.unit, p.status, p.source
                 );
             }
+            for (key, t) in &entry.tables {
+                let _ = writeln!(
+                    text,
+                    "    {key:8} table of {} points vs density, {:8} {:20} {}",
+                    t.density.len(),
+                    t.unit,
+                    t.status,
+                    t.source
+                );
+            }
         }
     }
     emit(&text);

@@ -19,7 +19,7 @@ pub mod radial;
 pub mod step;
 
 pub use boundary::{Boundary, Domain};
-pub use eos::{EquationOfState, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
+pub use eos::{Compaction, EquationOfState, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
 pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;

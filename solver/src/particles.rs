@@ -42,6 +42,9 @@ pub struct Particles<const D: usize> {
     /// Dh/Dt from the last force evaluation, which predicts the next step's h; empty unless
     /// grad-h.
     pub smoothing_rate: Vec<f64>,
+    /// The highest density each particle has reached (real particles only); empty unless a
+    /// material's pressure depends on it (compaction).
+    pub peak_density: Vec<f64>,
     /// Largest pair signal speed seen by each particle in the last force evaluation.
     pub signal_speed: Vec<f64>,
     n_real: usize,
@@ -67,6 +70,8 @@ pub struct OptionalFields {
     pub density_rate: bool,
     /// Ω and Dh/Dt (grad-h).
     pub grad_h: bool,
+    /// The highest density reached (compaction).
+    pub peak_density: bool,
 }
 
 impl<const D: usize> Particles<D> {
@@ -107,6 +112,11 @@ impl<const D: usize> Particles<D> {
             } else {
                 Vec::new()
             },
+            peak_density: if optional.peak_density {
+                init.iter().map(|p| p.density).collect()
+            } else {
+                Vec::new()
+            },
             signal_speed: vec![0.0; n],
             n_real: n,
             images: Vec::new(),
@@ -131,6 +141,12 @@ impl<const D: usize> Particles<D> {
     pub fn material_of(&self, i: usize) -> usize {
         let i = self.real_index(i);
         self.material.get(i).map_or(0, |&m| m as usize)
+    }
+
+    /// The highest density real particle i has reached (its density where that is not kept).
+    #[inline]
+    pub fn peak_density_of(&self, i: usize) -> f64 {
+        self.peak_density.get(i).copied().unwrap_or(self.density[i])
     }
 
     /// The real particle that index `i` is, or stands for.
@@ -235,6 +251,7 @@ impl<const D: usize> Particles<D> {
         apply(&mut self.signal_speed, order);
         apply(&mut self.omega, order);
         apply(&mut self.smoothing_rate, order);
+        apply(&mut self.peak_density, order);
     }
 
     /// Total mass of the real particles.

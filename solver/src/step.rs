@@ -277,6 +277,7 @@ impl<const D: usize> Simulation<D> {
         let optional = OptionalFields {
             density_rate: config.density == DensityMethod::Continuity,
             grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
+            peak_density: materials.iter().any(|m| m.eos.remembers_peak_density()),
         };
         let mut sim = Self {
             particles: Particles::new(init, optional),
@@ -505,10 +506,14 @@ impl<const D: usize> Simulation<D> {
         {
             physics::summation_density(p, &self.neighbours, &self.kernel);
         }
+        for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
+            *peak = peak.max(*rho);
+        }
         for i in 0..p.n_real() {
             let eos = &self.materials[p.material_of(i)].eos;
-            p.pressure[i] = eos.pressure(p.density[i], p.internal_energy[i]);
-            p.sound_speed[i] = eos.sound_speed(p.density[i], p.internal_energy[i]);
+            let (rho, e, peak) = (p.density[i], p.internal_energy[i], p.peak_density_of(i));
+            p.pressure[i] = eos.pressure_after(rho, e, peak);
+            p.sound_speed[i] = eos.sound_speed_after(rho, e, peak);
         }
         p.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();
@@ -606,7 +611,11 @@ impl<const D: usize> Simulation<D> {
         let p = &self.particles;
         for i in 0..p.n_real() {
             let material = &self.materials[p.material_of(i)];
-            let pressure = material.eos.pressure(p.density[i], p.internal_energy[i]);
+            let pressure = material.eos.pressure_after(
+                p.density[i],
+                p.internal_energy[i],
+                p.peak_density_of(i),
+            );
             let failure = if !p.position[i].iter().all(|x| x.is_finite()) {
                 Some(("position", p.position[i].norm()))
             } else if !p.velocity[i].iter().all(|v| v.is_finite()) {

@@ -3,7 +3,7 @@
 //! get a solver `Material`; an unknown name or a missing parameter is an error naming it.
 
 use crate::VerifyError;
-use blastsph_solver::{IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
+use blastsph_solver::{Compaction, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -18,11 +18,23 @@ pub struct Parameter {
     pub status: String,
 }
 
+/// A tabulated function of density with its provenance.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+pub struct Table {
+    pub density: Vec<f64>,
+    pub value: Vec<f64>,
+    pub unit: String,
+    pub source: String,
+    pub status: String,
+}
+
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 pub struct MaterialEntry {
     pub model: String,
     pub description: String,
     pub parameters: BTreeMap<String, Parameter>,
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub tables: BTreeMap<String, Table>,
 }
 
 /// The materials of `reference_data/materials.toml`, by name.
@@ -66,6 +78,26 @@ impl Library {
                     parameter: parameter.to_string(),
                 })
         };
+        let table = |table: &str| {
+            let missing = || VerifyError::MissingParameter {
+                material: name.to_string(),
+                model: entry.model.clone(),
+                parameter: format!("tables.{table}"),
+            };
+            let t = entry.tables.get(table).ok_or_else(missing)?;
+            if t.density.len() != t.value.len() {
+                return Err(VerifyError::bad_value(
+                    &format!("{name} tables.{table}"),
+                    format!("{} densities, {} values", t.density.len(), t.value.len()),
+                    "as many values as densities",
+                ));
+            }
+            Ok(t.density
+                .iter()
+                .copied()
+                .zip(t.value.iter().copied())
+                .collect())
+        };
         let optional = |parameter: &str, default: f64| {
             entry.parameters.get(parameter).map_or(default, |p| p.value)
         };
@@ -99,11 +131,19 @@ impl Library {
                     optional("p_min", f64::NEG_INFINITY),
                 )?,
             ),
+            "compaction" => Material::new(
+                name,
+                Compaction::new(
+                    table("loading")?,
+                    table("unloading_sound_speed")?,
+                    get("p_min")?,
+                )?,
+            ),
             other => {
                 return Err(VerifyError::bad_value(
                     &format!("model of material {name}"),
                     other,
-                    "ideal-gas, jwl, stiffened-gas or mie-gruneisen",
+                    "ideal-gas, jwl, stiffened-gas, mie-gruneisen or compaction",
                 ))
             }
         };
@@ -132,6 +172,8 @@ mod tests {
             "steel-4340",
             "pmma",
             "tungsten",
+            "dry-sand",
+            "concrete",
         ] {
             assert!(
                 library.materials.contains_key(required),
@@ -211,6 +253,49 @@ mod tests {
         let (d, p_cj, _) = jwl.chapman_jouguet(p["e0"].value);
         assert!((p_cj / p["p_cj"].value - 1.0).abs() < 0.05);
         assert!((d / p["d_cj"].value - 1.0).abs() < 0.05);
+    }
+
+    /// The dry-sand compaction curve is Laine & Sandvik's Table 1 and its unloading speeds at
+    /// 9–62 MPa are Laine & Larsen's Table 3 (a guard against copying errors), and its initial
+    /// density is the curve's first point.
+    #[test]
+    fn dry_sand_matches_its_source_tables() {
+        let library = Library::standard();
+        let sand = library.entry("dry-sand").unwrap();
+        let rows = |csv: &str, columns: (usize, usize)| -> Vec<(f64, f64)> {
+            csv.lines()
+                .filter(|l| !l.starts_with('#'))
+                .skip(1)
+                .map(|l| {
+                    let cells: Vec<&str> = l.split(',').collect();
+                    let cell = |k: usize| cells[k].parse::<f64>().unwrap();
+                    (cell(columns.0), cell(columns.1))
+                })
+                .collect()
+        };
+        let loading = rows(
+            include_str!("../../reference_data/sand_laine_sandvik_2001_table1.csv"),
+            (1, 2),
+        );
+        let table = &sand.tables["loading"];
+        assert_eq!(
+            table.density,
+            loading.iter().map(|r| r.0).collect::<Vec<_>>()
+        );
+        let mpa: Vec<f64> = table.value.iter().map(|p| p / 1e6).collect();
+        for (a, b) in mpa.iter().zip(loading.iter().map(|r| r.1)) {
+            assert!((a - b).abs() < 1e-9 * b.max(1.0), "{a} vs {b}");
+        }
+        assert_eq!(sand.parameters["rho0"].value, table.density[0]);
+        let unloading = rows(
+            include_str!("../../reference_data/sand_laine_larsen_2009_table3_unloading_speed.csv"),
+            (4, 1),
+        );
+        let speed = &sand.tables["unloading_sound_speed"];
+        for (rho, c) in unloading {
+            let k = speed.density.iter().position(|&d| d == rho).unwrap();
+            assert_eq!(speed.value[k], c, "c at {rho}");
+        }
     }
 
     #[test]

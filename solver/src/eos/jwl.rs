@@ -25,10 +25,15 @@ impl Jwl {
         r2: f64,
         omega: f64,
     ) -> Result<Self, SolverError> {
-        for (field, value) in [("rho0", rho0), ("r1", r1), ("r2", r2), ("omega", omega)] {
+        for (field, value) in [("rho0", rho0), ("r1", r1), ("r2", r2)] {
             if !(value > 0.0 && value.is_finite()) {
                 return Err(SolverError::invalid(field, value, "finite and > 0"));
             }
+        }
+        // ω is the Grüneisen coefficient of the expanded products (ω = γ − 1 of the ideal gas
+        // they tend to); fits lie near 0.3
+        if !(omega > 0.0 && omega < 1.0) {
+            return Err(SolverError::invalid("omega", omega, "0 < ω < 1"));
         }
         for (field, value) in [("a", a), ("b", b)] {
             if !(value >= 0.0 && value.is_finite()) {
@@ -132,6 +137,16 @@ mod tests {
         let (d, p, _) = tnt().chapman_jouguet(7.0e9);
         assert!((p / 21.0e9 - 1.0).abs() < 0.05, "p_CJ = {p:e}");
         assert!((d / 6930.0 - 1.0).abs() < 0.05, "D_CJ = {d}");
+    }
+
+    #[test]
+    fn omega_outside_the_unit_interval_is_rejected() {
+        for omega in [0.0, 1.0, 1.5, -0.2] {
+            let err = Jwl::new(1630.0, 371.2e9, 3.231e9, 4.15, 0.95, omega)
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains("omega") && err.contains("0 < ω < 1"), "{err}");
+        }
     }
 
     proptest! {

@@ -1,11 +1,13 @@
 //! Equations of state: pressure and sound speed from density and specific internal energy.
-//! Ideal gas here; Mie–Grüneisen, JWL and stiffened gas in their own files (the compaction law
-//! of porous soil will join them).
+//! Ideal gas here; Mie–Grüneisen, JWL, stiffened gas and the compaction law of porous soil in
+//! their own files.
 
+mod compaction;
 mod jwl;
 mod mie_gruneisen;
 mod stiffened_gas;
 
+pub use compaction::Compaction;
 pub use jwl::Jwl;
 pub use mie_gruneisen::MieGruneisen;
 pub use stiffened_gas::StiffenedGas;
@@ -24,6 +26,19 @@ pub trait EquationOfState: Debug + Send + Sync {
     /// range, and the run stops with a diagnosis.
     fn min_pressure(&self) -> f64 {
         0.0
+    }
+    /// Whether p and c depend on the highest density the particle has reached (a porous
+    /// material that compacts); the particles then carry that density as history.
+    fn remembers_peak_density(&self) -> bool {
+        false
+    }
+    /// p(ρ, e) of a particle whose density has been as high as `peak_density`.
+    fn pressure_after(&self, density: f64, internal_energy: f64, _peak_density: f64) -> f64 {
+        self.pressure(density, internal_energy)
+    }
+    /// c(ρ, e) of a particle whose density has been as high as `peak_density`.
+    fn sound_speed_after(&self, density: f64, internal_energy: f64, _peak_density: f64) -> f64 {
+        self.sound_speed(density, internal_energy)
     }
 }
 
