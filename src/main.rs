@@ -1,6 +1,7 @@
 //! `blastsph`: the command line. It parses, shows progress, prints tables and writes files; the
 //! work is done by `blastsph-verification` and `blastsph-solver`.
 
+use blastsph_verification::impedance::{self, Drive};
 use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
@@ -75,6 +76,29 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The exact state where material A meets material B: interface particle velocity and
+    /// pressure, transmitted shock speed, reflected wave type (all SI).
+    Impedance {
+        /// Material A (the flyer, or the one the incident shock runs in); see `materials`.
+        #[arg(long)]
+        a: String,
+        /// Material B, at rest.
+        #[arg(long)]
+        b: String,
+        /// Velocity of A hitting B at rest (m/s).
+        #[arg(
+            long,
+            conflicts_with = "pressure",
+            required_unless_present = "pressure",
+            allow_negative_numbers = true
+        )]
+        impact: Option<f64>,
+        /// Pressure of the incident shock in A (Pa).
+        #[arg(long, allow_negative_numbers = true)]
+        pressure: Option<f64>,
+        #[arg(long)]
+        json: bool,
+    },
     /// Solve a Riemann problem of the ideal gas exactly and print the star state.
     Riemann {
         /// Left state ρ,u,p (SI).
@@ -119,6 +143,13 @@ fn main() -> ExitCode {
             materials_command(json);
             Ok(true)
         }
+        Command::Impedance {
+            a,
+            b,
+            impact,
+            pressure,
+            json,
+        } => impedance_command(&a, &b, impact, pressure, json).map(|_| true),
         Command::Riemann {
             left,
             right,
@@ -321,6 +352,51 @@ fn sedov_command(
         println!("u2             = {:.6e}", blast.u2);
         println!("p2             = {:.6e}", blast.p2);
         println!("e2             = {:.6e}", blast.e2);
+    }
+    Ok(())
+}
+
+fn impedance_command(
+    a: &str,
+    b: &str,
+    impact: Option<f64>,
+    pressure: Option<f64>,
+    json: bool,
+) -> Result<(), VerifyError> {
+    let drive = match (impact, pressure) {
+        (Some(v), _) => Drive::Impact(v),
+        (None, Some(p)) => Drive::Pressure(p),
+        (None, None) => unreachable!("clap requires --impact or --pressure"),
+    };
+    let case = impedance::library_case(&Library::standard(), a, b, drive)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&case).expect("json"));
+        return Ok(());
+    }
+    let s = &case.solution;
+    println!("{} onto {} ({:?})", case.a, case.b, case.drive);
+    println!(
+        "incident in A  u = {:.6e} m/s, p = {:.6e} Pa, rho = {:.6e} kg/m3",
+        case.incident.velocity, case.incident.pressure, case.incident.density
+    );
+    println!(
+        "interface      up = {:.6e} m/s, p = {:.6e} Pa",
+        case.up, case.p
+    );
+    println!(
+        "transmitted    shock in B, us_b = {:.6e} m/s, rho = {:.6e} kg/m3",
+        case.us_b, s.into_b.behind.density
+    );
+    println!(
+        "reflected      {} in A, head {:.6e} m/s, tail {:.6e} m/s, rho = {:.6e} kg/m3",
+        case.reflected, s.into_a.head_speed, s.into_a.tail_speed, s.into_a.behind.density
+    );
+    if let Some((u, p)) = case.eq_2_16 {
+        println!(
+            "eq. 2-16       up = {u:.6e} m/s ({:+.2} %), p = {p:.6e} Pa ({:+.2} %) (mirrored Hugoniot)",
+            100.0 * (u / case.up - 1.0),
+            100.0 * (p / case.p - 1.0)
+        );
     }
     Ok(())
 }

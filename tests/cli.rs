@@ -255,3 +255,70 @@ fn materials_lists_the_library_with_sources() {
         }
     }
 }
+
+#[test]
+fn impedance_prints_the_interface_state_as_json() {
+    // symmetric impact Cu onto Cu at 1000 m/s: up = 500 m/s exactly,
+    // p = ρ0 (C0 + S up) up = 8930 (3940 + 1.489·500) 500 Pa (Steinberg's Cu Hugoniot)
+    let out = blastsph(&[
+        "impedance",
+        "--a",
+        "cu-ofhc",
+        "--b",
+        "cu-ofhc",
+        "--impact",
+        "1000",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((json["up"].as_f64().unwrap() - 500.0).abs() < 1e-6);
+    let p = 8930.0 * (3940.0 + 1.489 * 500.0) * 500.0;
+    assert!((json["p"].as_f64().unwrap() / p - 1.0).abs() < 1e-9);
+    assert!((json["us_b"].as_f64().unwrap() - (3940.0 + 1.489 * 500.0)).abs() < 1e-6);
+    assert_eq!(json["reflected"], "shock");
+    // a shock from copper into aluminium (lower impedance) reflects a rarefaction
+    let out = blastsph(&[
+        "impedance",
+        "--a",
+        "cu-ofhc",
+        "--b",
+        "al-6061",
+        "--pressure",
+        "2e10",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["reflected"], "rarefaction");
+    assert!(json["p"].as_f64().unwrap() < 2e10);
+}
+
+#[test]
+fn impedance_rejects_bad_input_by_name() {
+    let out = blastsph(&[
+        "impedance",
+        "--a",
+        "kryptonite",
+        "--b",
+        "cu-ofhc",
+        "--impact",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("kryptonite") && stderr(&out).contains("al-6061"));
+    let out = blastsph(&[
+        "impedance",
+        "--a",
+        "cu-ofhc",
+        "--b",
+        "al-6061",
+        "--impact",
+        "-5",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--impact"), "{}", stderr(&out));
+    let out = blastsph(&["impedance", "--a", "cu-ofhc", "--b", "al-6061"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--impact") || stderr(&out).contains("--pressure"));
+}

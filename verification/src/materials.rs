@@ -64,6 +64,63 @@ impl Library {
             })
     }
 
+    fn value(&self, name: &str, parameter: &str) -> Result<f64, VerifyError> {
+        let entry = self.entry(name)?;
+        entry
+            .parameters
+            .get(parameter)
+            .map(|p| p.value)
+            .ok_or_else(|| VerifyError::MissingParameter {
+                material: name.to_string(),
+                model: entry.model.clone(),
+                parameter: parameter.to_string(),
+            })
+    }
+
+    /// The Mie–Grüneisen law of material `name` (an error if it has another model).
+    pub fn mie_gruneisen(&self, name: &str) -> Result<MieGruneisen, VerifyError> {
+        let entry = self.entry(name)?;
+        if entry.model != "mie-gruneisen" {
+            return Err(VerifyError::bad_value(
+                &format!("model of material {name}"),
+                &entry.model,
+                "mie-gruneisen (a Us–up Hugoniot)",
+            ));
+        }
+        let get = |parameter: &str| self.value(name, parameter);
+        let optional = |parameter: &str, default: f64| get(parameter).unwrap_or(default);
+        Ok(MieGruneisen::steinberg(
+            get("rho0")?,
+            get("c0")?,
+            get("s1")?,
+            optional("s2", 0.0),
+            optional("s3", 0.0),
+            get("gamma0")?,
+            // no spall data for the metals in the library yet: no tensile cutoff
+            optional("p_min", f64::NEG_INFINITY),
+        )?)
+    }
+
+    /// The material's ambient state (ρ, e): at rest at its reference density with zero pressure
+    /// for condensed matter, at p0 for a gas, and for detonation products the charge's
+    /// density with its detonation energy (the constant-volume explosion state).
+    pub fn ambient_state(&self, name: &str) -> Result<(f64, f64), VerifyError> {
+        let entry = self.entry(name)?;
+        let rho0 = self.value(name, "rho0")?;
+        let e = match entry.model.as_str() {
+            "ideal-gas" => self.value(name, "p0")? / ((self.value(name, "gamma")? - 1.0) * rho0),
+            "stiffened-gas" => StiffenedGas::new(
+                self.value(name, "gamma")?,
+                self.value(name, "p_inf")?,
+                self.value(name, "p_min")?,
+            )?
+            .internal_energy(rho0, self.value(name, "p0")?),
+            "jwl" => self.value(name, "e0")? / rho0,
+            _ => 0.0,
+        };
+        Ok((rho0, e))
+    }
+
     /// The solver material `name`: its equation of state built from the library's parameters.
     pub fn material(&self, name: &str) -> Result<Material, VerifyError> {
         let entry = self.entry(name)?;
@@ -98,9 +155,6 @@ impl Library {
                 .zip(t.value.iter().copied())
                 .collect())
         };
-        let optional = |parameter: &str, default: f64| {
-            entry.parameters.get(parameter).map_or(default, |p| p.value)
-        };
         let material = match entry.model.as_str() {
             "ideal-gas" => Material::new(name, IdealGas::new(get("gamma")?)?),
             "jwl" => Material::new(
@@ -118,19 +172,7 @@ impl Library {
                 name,
                 StiffenedGas::new(get("gamma")?, get("p_inf")?, get("p_min")?)?,
             ),
-            "mie-gruneisen" => Material::new(
-                name,
-                MieGruneisen::steinberg(
-                    get("rho0")?,
-                    get("c0")?,
-                    get("s1")?,
-                    optional("s2", 0.0),
-                    optional("s3", 0.0),
-                    get("gamma0")?,
-                    // no spall data in the library yet: no tensile cutoff
-                    optional("p_min", f64::NEG_INFINITY),
-                )?,
-            ),
+            "mie-gruneisen" => Material::new(name, self.mie_gruneisen(name)?),
             "compaction" => Material::new(
                 name,
                 Compaction::new(
