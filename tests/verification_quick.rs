@@ -133,3 +133,40 @@ fn sedov_blasts_pass_their_quick_checks() {
         }
     }
 }
+
+/// The three interface problems at quick level: plateau pressure and particle velocity and the
+/// transmitted shock speed within 3 % of the exact interface state, the reflected wave of the
+/// right type at every resolution (shock from low to high impedance and in the symmetric
+/// control, rarefaction from high to low), no interpenetration, and a velocity error that
+/// falls with resolution.
+#[test]
+fn impedance_problems_pass_their_quick_checks() {
+    for (name, reflected) in [
+        ("impedance-low-high", "shock"),
+        ("impedance-high-low", "rarefaction"),
+        ("impedance-symmetric", "shock"),
+    ] {
+        let out = run(name, &[]);
+        assert_all_checks_pass(&out);
+        let r = &out.record;
+        for key in [
+            "interface_pressure_relative",
+            "interface_velocity_relative",
+            "transmitted_shock_speed_relative",
+        ] {
+            assert!(
+                r.check(key).is_some_and(|c| c.limit == 0.03),
+                "{name} {key}"
+            );
+        }
+        let detected = format!("reflected_{reflected}_detected_");
+        assert!(
+            r.checks.iter().any(|c| c.name.starts_with(&detected)),
+            "{name}: no {detected} check"
+        );
+    }
+    // the control: up = V/2 by symmetry, to round-off
+    let out = run("impedance-symmetric", &[]);
+    let fine = out.record.headline().unwrap();
+    assert!(fine.errors["interface_velocity_relative"] < 1e-12);
+}

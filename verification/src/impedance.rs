@@ -191,14 +191,29 @@ fn shock_density(eos: &dyn EquationOfState, ahead: &MaterialState, p: f64) -> (f
 /// The isentrope from `ahead` down to pressure p < p_a, integrated in p:
 /// dρ/dp = 1/c², de/dp = p/(ρc)², du/dp = 1/(ρc). Returns (ρ, e, |Δu|).
 fn isentrope(eos: &dyn EquationOfState, ahead: &MaterialState, p: f64) -> (f64, f64, f64) {
+    let &(_, rho, e, du) = isentrope_path(eos, ahead, p, ISENTROPE_STEPS)
+        .last()
+        .expect("the path holds its start");
+    (rho, e, du)
+}
+
+/// The isentrope from `ahead` to pressure p by RK4 in `steps` equal pressure steps, as
+/// (p, ρ, e, |Δu|) at each step, the start included.
+fn isentrope_path(
+    eos: &dyn EquationOfState,
+    ahead: &MaterialState,
+    p: f64,
+    steps: usize,
+) -> Vec<(f64, f64, f64, f64)> {
     let rates = |pressure: f64, rho: f64, e: f64| {
         let c = eos.sound_speed(rho, e);
         let c2 = c * c;
         (1.0 / c2, pressure / (rho * rho * c2), 1.0 / (rho * c))
     };
-    let dp = (p - ahead.pressure) / ISENTROPE_STEPS as f64;
+    let dp = (p - ahead.pressure) / steps as f64;
     let (mut rho, mut e, mut du) = (ahead.density, ahead.internal_energy, 0.0);
-    for k in 0..ISENTROPE_STEPS {
+    let mut path = vec![(ahead.pressure, rho, e, du)];
+    for k in 0..steps {
         let p0 = ahead.pressure + k as f64 * dp;
         let k1 = rates(p0, rho, e);
         let k2 = rates(p0 + 0.5 * dp, rho + 0.5 * dp * k1.0, e + 0.5 * dp * k1.1);
@@ -207,8 +222,27 @@ fn isentrope(eos: &dyn EquationOfState, ahead: &MaterialState, p: f64) -> (f64, 
         rho += dp / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
         e += dp / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
         du -= dp / 6.0 * (k1.2 + 2.0 * k2.2 + 2.0 * k3.2 + k4.2);
+        path.push((p0 + dp, rho, e, du));
     }
-    (rho, e, du)
+    path
+}
+
+/// The states inside a left-facing rarefaction fan from `ahead` down to pressure p, as
+/// (ξ, ρ, u, p) with ξ = u − c the characteristic speed, increasing from head to tail: the fan
+/// centred at (x0, t0) holds the state with ξ = (x − x0)/(t − t0).
+pub fn left_fan(
+    eos: &dyn EquationOfState,
+    ahead: &MaterialState,
+    p: f64,
+    points: usize,
+) -> Vec<(f64, f64, f64, f64)> {
+    isentrope_path(eos, ahead, p, points)
+        .into_iter()
+        .map(|(pressure, rho, e, du)| {
+            let u = ahead.velocity + du;
+            (u - eos.sound_speed(rho, e), rho, u, pressure)
+        })
+        .collect()
 }
 
 /// The interface state when A (left, state `a`) meets B (right, state `b`).

@@ -102,6 +102,11 @@ impl Params {
     }
 
     /// A number in [lo, hi].
+    /// A free-text value (a material name, checked by whoever uses it).
+    pub fn text(&self, key: &str) -> String {
+        self.raw(key).to_string()
+    }
+
     pub fn number(&self, key: &str, lo: f64, hi: f64) -> Result<f64, VerifyError> {
         let raw = self.raw(key);
         match raw.trim().parse::<f64>() {

@@ -1,6 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
+mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
 mod shock_tube;
@@ -22,6 +23,7 @@ pub fn all() -> Vec<ProblemInfo> {
     let mut list = vec![kernel_interpolation::info()];
     list.extend(shock_tube::infos());
     list.extend(sedov_blast::infos());
+    list.extend(impedance_mismatch::infos());
     list
 }
 
@@ -52,6 +54,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if impedance_mismatch::NAMES.contains(&name) {
+        impedance_mismatch::run(name, &params, progress)?
     } else if sedov_blast::is_sedov(name) {
         sedov_blast::run(name, &params, level, progress)?
     } else {
