@@ -170,3 +170,18 @@ fn impedance_problems_pass_their_quick_checks() {
     let fine = out.record.headline().unwrap();
     assert!(fine.errors["interface_velocity_relative"] < 1e-12);
 }
+
+/// The water–air tube (density ratio 1000) at quick level: every run completes with positive
+/// density and the interface stays within two smoothing lengths of the exact contact.
+#[test]
+fn density_ratio_tube_passes_its_quick_checks() {
+    let out = run("density-ratio-tube", &[]);
+    assert_all_checks_pass(&out);
+    let interface_checks = out
+        .record
+        .checks
+        .iter()
+        .filter(|c| c.name.starts_with("interface_error_over_h") && c.limit == 2.0)
+        .count();
+    assert_eq!(interface_checks, out.record.runs.len());
+}

@@ -325,9 +325,10 @@ struct RateSource<const D: usize> {
     sound_speed: f64,
     pressure: f64,
     internal_energy: f64,
-    /// p/(Ω ρ²) (Ω = 1 without grad-h), computed once so that the pair term P_i + P_j is the
-    /// same floating-point number seen from i and from j.
-    pressure_over_rho2: f64,
+    /// p/(Ω ρ²) (Ω = 1 without grad-h) in the standard form, p/ρ in the volume form (which
+    /// divides by the partner's ρ in the pair), computed once so that the pair term P_i + P_j
+    /// is the same floating-point number seen from i and from j.
+    pressure_factor: f64,
     /// A wall image: its force on a real particle is the wall's reaction.
     is_wall: bool,
 }
@@ -349,16 +350,26 @@ struct RateTerms<'a, const D: usize> {
     viscosity: &'a ArtificialViscosity,
     energy: EnergyEquation,
     pair_kernel: PairKernel,
-    /// Continuity density: weight neighbours by volume (ρ_i/ρ_j) rather than by mass.
-    volume_weighted_density: bool,
+    /// Continuity density: the volume form of density, momentum and energy rates.
+    volume_form: bool,
 }
 
 impl<const D: usize> RateTerms<'_, D> {
     /// The factor that turns j's m_j v_ij·∇W into its share of Dρ_i/Dt.
     #[inline]
     fn density_weight(&self, me: &RateSource<D>, other: &RateSource<D>) -> f64 {
-        if self.volume_weighted_density {
+        if self.volume_form {
             me.density / other.density
+        } else {
+            1.0
+        }
+    }
+
+    /// What i's pressure factor is multiplied by in the pair with j: 1/ρ_j in the volume form.
+    #[inline]
+    fn partner_factor(&self, other: &RateSource<D>) -> f64 {
+        if self.volume_form {
+            1.0 / other.density
         } else {
             1.0
         }
@@ -377,7 +388,13 @@ pub enum PairKernel {
 }
 
 /// Momentum, energy and (for continuity density or grad-h) density rates of the real particles:
-/// Dv_i/Dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇_i W_ij,
+/// Dv_i/Dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇_i W_ij, or with continuity density the
+/// volume form −Σ_j m_j ((p_i + p_j)/(ρ_i ρ_j) + Π_ij) ∇_i W_ij (the seed's
+/// (σ_i + σ_j)/(ρ_i ρ_j) form): across a density jump of 1000 the standard form multiplies the
+/// light particle's own pressure by its heavy neighbour's mass and tears the interface apart in
+/// one step, while the volume form weighs each neighbour by its volume. Both are antisymmetric
+/// in i, j, and the energy equation's p_i/(ρ_i ρ_j) is p_i/ρ_i² times the volume-form Dρ_i/Dt,
+/// so momentum and energy stay conserved,
 /// De_i/Dt in the chosen [`EnergyEquation`] form,
 /// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij·∇_i W_ij (continuity, see [`DensityMethod::Continuity`]) or
 /// Σ_j m_j v_ij·∇_i W_ij(h_i) (the rate of the grad-h summation density),
@@ -399,8 +416,9 @@ pub fn compute_rates<const D: usize>(
         viscosity,
         energy,
         pair_kernel,
-        volume_weighted_density: !particles.density_rate.is_empty(),
+        volume_form: !particles.density_rate.is_empty(),
     };
+    let volume_form = terms.volume_form;
     let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
     let sources: Vec<RateSource<D>> = (0..p.len())
         .into_par_iter()
@@ -413,7 +431,11 @@ pub fn compute_rates<const D: usize>(
             sound_speed: p.sound_speed[k],
             pressure: p.pressure[k],
             internal_energy: p.internal_energy[k],
-            pressure_over_rho2: pressure_term(p.pressure[k], p.density[k], 0.0, 1.0) / omega(k),
+            pressure_factor: if volume_form {
+                p.pressure[k] / p.density[k]
+            } else {
+                pressure_term(p.pressure[k], p.density[k], 0.0, 1.0) / omega(k)
+            },
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
         })
         .collect();
@@ -485,8 +507,11 @@ fn rates_at<const D: usize>(
             let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean);
             let m_j = other.mass;
             // every gradient here is dW/dr · x_ij/r, so the pair's terms combine as scalars
-            let pressure_i = m_j * me.pressure_over_rho2 * dw_i;
-            let pressure_j = m_j * other.pressure_over_rho2 * dw_j;
+            let pressure_i = m_j * me.pressure_factor * terms.partner_factor(other) * dw_i;
+            let pressure_j = m_j * other.pressure_factor * terms.partner_factor(me) * dw_j;
+            // m_j Π_ij in both forms: in the volume form it is m_j q_ij/(ρ_i ρ_j) with the viscous
+            // pressure q_ij = ρ̃ (−α c̄ μ + β μ²) at the harmonic mean density ρ̃, which the
+            // lighter side sets across a density jump
             let viscous = m_j * pi_ij * dw_mean;
             let v_dot_rhat = v_dot_x * inv_r;
             out.acceleration -= dx * ((pressure_i + pressure_j + viscous) * inv_r);

@@ -307,6 +307,75 @@ pub fn solve(
     })
 }
 
+/// The self-similar solution of a Riemann problem between `left` (material A) and `right`
+/// (material B): the wave into A (shock or rarefaction fan), the contact, and the shock into B.
+pub struct WavePattern {
+    pub left: MaterialState,
+    pub right: MaterialState,
+    pub solution: InterfaceSolution,
+    /// The fan into A as (ξ, ρ, u, p), empty when that wave is a shock.
+    fan: Vec<(f64, f64, f64, f64)>,
+}
+
+impl WavePattern {
+    /// Solves the problem; the wave into B must be a shock (a right-facing rarefaction is not
+    /// sampled here).
+    pub fn new(
+        eos_a: &dyn EquationOfState,
+        left: MaterialState,
+        eos_b: &dyn EquationOfState,
+        right: MaterialState,
+    ) -> Result<Self, VerifyError> {
+        let solution = solve(eos_a, left, eos_b, right)?;
+        if solution.into_b.kind != WaveKind::Shock {
+            return Err(VerifyError::bad_value(
+                "right state",
+                "a rarefaction into B",
+                "states that send a shock into B",
+            ));
+        }
+        let fan = if solution.into_a.kind == WaveKind::Rarefaction {
+            left_fan(eos_a, &left, solution.pressure, 400)
+        } else {
+            Vec::new()
+        };
+        Ok(Self {
+            left,
+            right,
+            solution,
+            fan,
+        })
+    }
+
+    /// (ρ, u, p) at ξ = (x − x0)/(t − t0).
+    pub fn sample(&self, xi: f64) -> (f64, f64, f64) {
+        let state = |s: &MaterialState| (s.density, s.velocity, s.pressure);
+        let (into_a, into_b) = (&self.solution.into_a, &self.solution.into_b);
+        if xi < into_a.head_speed {
+            state(&self.left)
+        } else if xi < into_a.tail_speed {
+            let k = self
+                .fan
+                .windows(2)
+                .position(|w| xi <= w[1].0)
+                .unwrap_or(self.fan.len().saturating_sub(2));
+            let (a, b) = (self.fan[k], self.fan[k + 1]);
+            let f = ((xi - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
+            (
+                a.1 + f * (b.1 - a.1),
+                a.2 + f * (b.2 - a.2),
+                a.3 + f * (b.3 - a.3),
+            )
+        } else if xi < self.solution.velocity {
+            state(&into_a.behind)
+        } else if xi < into_b.head_speed {
+            state(&into_b.behind)
+        } else {
+            state(&self.right)
+        }
+    }
+}
+
 /// The state behind a right-facing shock of pressure `p` driven into material at rest.
 pub fn shocked_from_rest(eos: &dyn EquationOfState, rest: MaterialState, p: f64) -> Wave {
     wave(eos, &rest, p, Facing::Right).1

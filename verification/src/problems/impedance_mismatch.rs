@@ -16,7 +16,7 @@
 //! from the pressure on either side of it, the gap between the two materials' particles, and
 //! the L1 error of the velocity profile.
 
-use crate::impedance::{self, InterfaceSolution, MaterialState, Wave, WaveKind};
+use crate::impedance::{self, InterfaceSolution, MaterialState, Wave, WaveKind, WavePattern};
 use crate::materials::Library;
 use crate::norms::{l1_error, observed_order};
 use crate::params::{ParamSpec, Params};
@@ -109,12 +109,10 @@ struct Exact {
     /// Where and when the incident shock meets B (0, 0 without an A layer).
     x_hit: f64,
     t_hit: f64,
+    /// The waves leaving the interface, centred at (x_hit, t_hit).
+    pattern: WavePattern,
     interface: InterfaceSolution,
-    /// The reflected rarefaction fan (ξ, ρ, u, p), empty for a reflected shock.
-    fan: Vec<(f64, f64, f64, f64)>,
-    /// Ambient densities of A and B.
     rho_a: f64,
-    rho_b: f64,
 }
 
 impl Exact {
@@ -131,19 +129,14 @@ impl Exact {
             velocity: v,
             ..rest_a
         };
-        let (impact, interface, x_hit, t_hit) = if layer > 0.0 {
+        let (impact, pattern, x_hit, t_hit) = if layer > 0.0 {
             let impact = impedance::solve(eos_a, flyer, eos_a, rest_a)?;
             let t_hit = layer / impact.into_b.head_speed;
-            let interface = impedance::solve(eos_a, impact.into_b.behind, eos_b, rest_b)?;
-            (impact, interface, layer, t_hit)
+            let pattern = WavePattern::new(eos_a, impact.into_b.behind, eos_b, rest_b)?;
+            (impact, pattern, layer, t_hit)
         } else {
-            let impact = impedance::solve(eos_a, flyer, eos_b, rest_b)?;
-            (impact, impact, 0.0, 0.0)
-        };
-        let fan = if interface.into_a.kind == WaveKind::Rarefaction {
-            impedance::left_fan(eos_a, &impact.into_b.behind, interface.pressure, 400)
-        } else {
-            Vec::new()
+            let pattern = WavePattern::new(eos_a, flyer, eos_b, rest_b)?;
+            (pattern.solution, pattern, 0.0, 0.0)
         };
         Ok(Self {
             impact_velocity: v,
@@ -151,14 +144,13 @@ impl Exact {
             incident: impact.into_b,
             x_hit,
             t_hit,
-            interface,
-            fan,
+            interface: pattern.solution,
+            pattern,
             rho_a,
-            rho_b,
         })
     }
 
-    /// The transmitted shock speed and the end time of a run with B of length `length_b`.
+    /// The end time of a run with B of length `length_b`.
     fn end_time(&self, length_b: f64) -> f64 {
         self.t_hit + END_FRACTION * length_b / self.interface.into_b.head_speed
     }
@@ -169,43 +161,17 @@ impl Exact {
 
     /// (ρ, u, p) at x, t.
     fn sample(&self, x: f64, t: f64) -> (f64, f64, f64) {
-        let flyer = (self.rho_a, self.impact_velocity, 0.0);
         let shocked = |w: &Wave| (w.behind.density, w.behind.velocity, w.behind.pressure);
         if x < self.flyer_shock.head_speed * t {
-            return flyer;
-        }
-        if t <= self.t_hit {
-            return if x < self.incident.head_speed * t {
+            (self.rho_a, self.impact_velocity, 0.0)
+        } else if t <= self.t_hit {
+            if x < self.incident.head_speed * t {
                 shocked(&self.incident)
             } else {
                 (self.rho_a, 0.0, 0.0)
-            };
-        }
-        let tau = t - self.t_hit;
-        let (reflected, transmitted) = (&self.interface.into_a, &self.interface.into_b);
-        let xi = (x - self.x_hit) / tau;
-        if self.t_hit > 0.0 && xi < reflected.head_speed {
-            shocked(&self.incident)
-        } else if xi < reflected.tail_speed {
-            // inside the fan: interpolate in ξ
-            let k = self
-                .fan
-                .windows(2)
-                .position(|w| xi <= w[1].0)
-                .unwrap_or(self.fan.len().saturating_sub(2));
-            let (a, b) = (self.fan[k], self.fan[k + 1]);
-            let f = ((xi - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
-            (
-                a.1 + f * (b.1 - a.1),
-                a.2 + f * (b.2 - a.2),
-                a.3 + f * (b.3 - a.3),
-            )
-        } else if x < self.interface_position(t) {
-            shocked(reflected)
-        } else if xi < transmitted.head_speed {
-            shocked(transmitted)
+            }
         } else {
-            (self.rho_b, 0.0, 0.0)
+            self.pattern.sample((x - self.x_hit) / (t - self.t_hit))
         }
     }
 }
@@ -449,7 +415,7 @@ fn run_one(
     let x_interface = 0.5 * (last_a + first_b);
     // the exact gap between the two interface particles: half a compressed spacing on each side
     let gap_exact = 0.5 * dx * (exact.rho_a / s_int.into_a.behind.density)
-        + 0.5 * dx * (exact.rho_b / s_int.into_b.behind.density);
+        + 0.5 * dx * (exact.pattern.right.density / s_int.into_b.behind.density);
     m.insert(
         "interface_gap_over_exact".into(),
         (first_b - last_a) / gap_exact,

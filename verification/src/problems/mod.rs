@@ -1,6 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
+mod density_ratio_tube;
 mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
@@ -24,6 +25,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.extend(shock_tube::infos());
     list.extend(sedov_blast::infos());
     list.extend(impedance_mismatch::infos());
+    list.push(density_ratio_tube::info());
     list
 }
 
@@ -54,6 +56,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if name == density_ratio_tube::NAME {
+        density_ratio_tube::run(&params, progress)?
     } else if impedance_mismatch::NAMES.contains(&name) {
         impedance_mismatch::run(name, &params, progress)?
     } else if sedov_blast::is_sedov(name) {
