@@ -185,3 +185,19 @@ fn density_ratio_tube_passes_its_quick_checks() {
         .count();
     assert_eq!(interface_checks, out.record.runs.len());
 }
+
+/// The TNT slab at quick level: the detonation front runs within 2 % of the JWL's D_CJ, the
+/// peak pressure gets closer to p_CJ and the pressure profile closer to the CJ + Taylor-wave
+/// solution as the spacing halves, and the products expand into the air without blow-up.
+#[test]
+fn tnt_slab_passes_its_quick_checks() {
+    let out = run("tnt-slab", &[]);
+    assert_all_checks_pass(&out);
+    let r = &out.record;
+    assert!(r
+        .check("front_speed_relative")
+        .is_some_and(|c| c.limit == 0.02));
+    assert!(r
+        .check("peak_pressure_error_finest_over_coarsest")
+        .is_some());
+}

@@ -2,12 +2,14 @@
 //! (particles, materials, domain, configuration) drives it through [`Simulation`].
 //!
 //! Order of operations in one step (see [`step`]): kick → drift → images → neighbours →
-//! density → equation of state → forces → kick → health check.
+//! density → equation of state (times the burn fraction of a detonating charge) → forces → kick →
+//! health check.
 
 // `!(x >= limit)` is used on purpose: unlike `x < limit` it is also true for a NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod boundary;
+pub mod burn;
 pub mod eos;
 pub mod error;
 pub mod kernel;
@@ -19,6 +21,7 @@ pub mod radial;
 pub mod step;
 
 pub use boundary::{Boundary, Domain};
+pub use burn::ProgrammedBurn;
 pub use eos::{Compaction, EquationOfState, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
 pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};

@@ -45,6 +45,10 @@ pub struct Particles<const D: usize> {
     /// The highest density each particle has reached (real particles only); empty unless a
     /// material's pressure depends on it (compaction).
     pub peak_density: Vec<f64>,
+    /// Programmed burn: each particle's lighting time (−∞ where it is not explosive) and burn
+    /// fraction F (its pressure is F·p_EOS); empty without a burn.
+    pub lighting_time: Vec<f64>,
+    pub burn_fraction: Vec<f64>,
     /// Largest pair signal speed seen by each particle in the last force evaluation.
     pub signal_speed: Vec<f64>,
     n_real: usize,
@@ -117,6 +121,8 @@ impl<const D: usize> Particles<D> {
             } else {
                 Vec::new()
             },
+            lighting_time: Vec::new(),
+            burn_fraction: Vec::new(),
             signal_speed: vec![0.0; n],
             n_real: n,
             images: Vec::new(),
@@ -252,6 +258,8 @@ impl<const D: usize> Particles<D> {
         apply(&mut self.omega, order);
         apply(&mut self.smoothing_rate, order);
         apply(&mut self.peak_density, order);
+        apply(&mut self.lighting_time, order);
+        apply(&mut self.burn_fraction, order);
     }
 
     /// Total mass of the real particles.

@@ -11,6 +11,7 @@
 //! signal speed, and the force criterion).
 
 use crate::boundary::{Boundary, Domain};
+use crate::burn::ProgrammedBurn;
 use crate::eos::Material;
 use crate::error::SolverError;
 use crate::kernel::{Kernel, KernelShape};
@@ -256,6 +257,8 @@ pub struct Simulation<const D: usize> {
     times: PhaseTimes,
     /// Neighbour searches repeated because a grad-h root lay beyond the first search's reach.
     repeated_searches: u64,
+    /// The programmed burn's speed and ramp (its lighting times live in the particles).
+    burn: Option<ProgrammedBurn>,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -265,6 +268,35 @@ impl<const D: usize> Simulation<D> {
         materials: Vec<Material>,
         domain: Domain<D>,
         config: SimulationConfig,
+    ) -> Result<Self, SolverError> {
+        Self::build(init, materials, domain, config, None)
+    }
+
+    /// A scene with a detonating charge: as [`Simulation::new`], with the explosive's pressure
+    /// released by the programmed `burn` (one lighting time per particle of `init`).
+    pub fn with_programmed_burn(
+        init: &[ParticleInit<D>],
+        materials: Vec<Material>,
+        domain: Domain<D>,
+        config: SimulationConfig,
+        burn: ProgrammedBurn,
+    ) -> Result<Self, SolverError> {
+        if burn.lighting_time.len() != init.len() {
+            return Err(SolverError::invalid(
+                "lighting times",
+                burn.lighting_time.len(),
+                &format!("one per particle ({})", init.len()),
+            ));
+        }
+        Self::build(init, materials, domain, config, Some(burn))
+    }
+
+    fn build(
+        init: &[ParticleInit<D>],
+        materials: Vec<Material>,
+        domain: Domain<D>,
+        config: SimulationConfig,
+        burn: Option<ProgrammedBurn>,
     ) -> Result<Self, SolverError> {
         config.validate()?;
         config.validate_geometry::<D>()?;
@@ -279,8 +311,14 @@ impl<const D: usize> Simulation<D> {
             grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
             peak_density: materials.iter().any(|m| m.eos.remembers_peak_density()),
         };
+        let mut particles = Particles::new(init, optional);
+        let mut burn = burn;
+        if let Some(burn) = &mut burn {
+            particles.burn_fraction = vec![0.0; init.len()];
+            particles.lighting_time = std::mem::take(&mut burn.lighting_time);
+        }
         let mut sim = Self {
-            particles: Particles::new(init, optional),
+            particles,
             materials,
             domain,
             config,
@@ -294,8 +332,9 @@ impl<const D: usize> Simulation<D> {
             wall_impulse: Vector::zeros(),
             times: PhaseTimes::default(),
             repeated_searches: 0,
+            burn,
         };
-        sim.evaluate_rates()?;
+        sim.evaluate_rates(0.0)?;
         sim.check_health()?;
         Ok(sim)
     }
@@ -364,7 +403,7 @@ impl<const D: usize> Simulation<D> {
         self.drift_and_predict(dt);
         self.times.integration += start.elapsed().as_secs_f64();
         let wall_force_before = self.wall_force;
-        self.evaluate_rates()?;
+        self.evaluate_rates(self.time + dt)?;
         let start = Instant::now();
         self.close_kick(0.5 * dt);
         self.wall_impulse += (wall_force_before + self.wall_force) * (0.5 * dt);
@@ -475,8 +514,9 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// Smoothing lengths → images → neighbours → density → EOS → forces.
-    fn evaluate_rates(&mut self) -> Result<(), SolverError> {
+    /// Smoothing lengths → images → neighbours → density → EOS (× burn fraction) → forces, for
+    /// the state at `time`.
+    fn evaluate_rates(&mut self, time: f64) -> Result<(), SolverError> {
         let start = Instant::now();
         match self.config.smoothing {
             SmoothingLength::GradH { eta, tolerance } => self.solve_grad_h(eta, tolerance)?,
@@ -514,6 +554,15 @@ impl<const D: usize> Simulation<D> {
             let (rho, e, peak) = (p.density[i], p.internal_energy[i], p.peak_density_of(i));
             p.pressure[i] = eos.pressure_after(rho, e, peak);
             p.sound_speed[i] = eos.sound_speed_after(rho, e, peak);
+        }
+        if let Some(burn) = &self.burn {
+            // the fraction never falls (h may grow as the products expand); the sound speed
+            // stays the products' own, which keeps the time step safe as the charge lights
+            for i in 0..p.n_real() {
+                let f = burn.fraction(time, p.lighting_time[i], p.smoothing_length[i]);
+                p.burn_fraction[i] = p.burn_fraction[i].max(f);
+                p.pressure[i] *= p.burn_fraction[i];
+            }
         }
         p.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();

@@ -236,11 +236,34 @@ pub fn left_fan(
     p: f64,
     points: usize,
 ) -> Vec<(f64, f64, f64, f64)> {
+    fan(eos, ahead, p, points, Facing::Left)
+}
+
+/// As [`left_fan`] for a right-facing fan (ξ = u + c, decreasing from head to tail), e.g. the
+/// Taylor wave behind a detonation.
+pub fn right_fan(
+    eos: &dyn EquationOfState,
+    ahead: &MaterialState,
+    p: f64,
+    points: usize,
+) -> Vec<(f64, f64, f64, f64)> {
+    fan(eos, ahead, p, points, Facing::Right)
+}
+
+fn fan(
+    eos: &dyn EquationOfState,
+    ahead: &MaterialState,
+    p: f64,
+    points: usize,
+    facing: Facing,
+) -> Vec<(f64, f64, f64, f64)> {
+    let s = facing.sign();
     isentrope_path(eos, ahead, p, points)
         .into_iter()
         .map(|(pressure, rho, e, du)| {
-            let u = ahead.velocity + du;
-            (u - eos.sound_speed(rho, e), rho, u, pressure)
+            // the material behind a rarefaction moves away from the way the wave faces
+            let u = ahead.velocity - s * du;
+            (u + s * eos.sound_speed(rho, e), rho, u, pressure)
         })
         .collect()
 }

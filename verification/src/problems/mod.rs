@@ -6,6 +6,7 @@ mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
 mod shock_tube;
+mod tnt_slab;
 
 use crate::params::{ParamSpec, Params};
 use crate::record::ProblemOutput;
@@ -26,6 +27,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.extend(sedov_blast::infos());
     list.extend(impedance_mismatch::infos());
     list.push(density_ratio_tube::info());
+    list.push(tnt_slab::info());
     list
 }
 
@@ -56,6 +58,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if name == tnt_slab::NAME {
+        tnt_slab::run(&params, progress)?
     } else if name == density_ratio_tube::NAME {
         density_ratio_tube::run(&params, progress)?
     } else if impedance_mismatch::NAMES.contains(&name) {
