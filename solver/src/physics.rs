@@ -80,6 +80,65 @@ pub struct ArtificialViscosity {
     /// pressure jumps, which removes the pressure blip ("wall heating") a contact leaves behind
     /// a shock; 0 switches it off.
     pub alpha_u: f64,
+    /// The seed's interface penalty force between particles of different materials (off when
+    /// `None`).
+    pub interface_penalty: Option<InterfacePenalty>,
+}
+
+/// Repulsion between particles of different materials that come closer than their mean
+/// smoothing length (the seed's eqs. 3-29/3-30, a Lennard-Jones-like form after Monaghan 1994):
+/// with pe = (h_i + h_j)/(2 r_ij), for pe ≥ 1 the pair feels
+/// PB_ij = p̄ (pe^n1 − pe^n2) x_ij / r_ij² (an acceleration, m/s²). Applied here as the pair
+/// force ±2 m_i m_j/(m_i + m_j) · PB_ij, which is the seed's acceleration for equal masses and
+/// keeps momentum conserved for unequal ones. It is a conservative central force whose potential
+/// energy is not tracked, so total energy is conserved only once pairs have separated again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InterfacePenalty {
+    /// p̄ (m²/s²): problem dependent, about 1e5 in the seed's blast runs.
+    pub p_bar: f64,
+    /// The repulsive and attractive exponents, 12 and 6 in the seed.
+    pub n1: f64,
+    pub n2: f64,
+}
+
+impl InterfacePenalty {
+    /// The seed's exponents with strength p̄.
+    pub fn seed(p_bar: f64) -> Self {
+        Self {
+            p_bar,
+            n1: 12.0,
+            n2: 6.0,
+        }
+    }
+
+    /// PB_ij · r_ij (m²/s²) at distance r for mean smoothing length h̄; zero for pe < 1.
+    #[inline]
+    pub fn acceleration_times_distance(&self, r: f64, h_mean: f64) -> f64 {
+        let pe = h_mean / r;
+        if pe < 1.0 {
+            0.0
+        } else {
+            self.p_bar * (pe.powf(self.n1) - pe.powf(self.n2))
+        }
+    }
+
+    pub fn validate(&self) -> Result<(), SolverError> {
+        if !(self.p_bar >= 0.0 && self.p_bar.is_finite()) {
+            return Err(SolverError::invalid(
+                "penalty p_bar",
+                self.p_bar,
+                "finite and ≥ 0",
+            ));
+        }
+        if !(self.n2 > 0.0 && self.n1 > self.n2 && self.n1.is_finite()) {
+            return Err(SolverError::invalid(
+                "penalty exponents n1/n2",
+                format!("{}/{}", self.n1, self.n2),
+                "n1 > n2 > 0",
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for ArtificialViscosity {
@@ -89,6 +148,7 @@ impl Default for ArtificialViscosity {
             beta: 2.0,
             eta2: 0.01,
             alpha_u: 0.0,
+            interface_penalty: None,
         }
     }
 }
@@ -107,7 +167,9 @@ impl ArtificialViscosity {
         if !(self.eta2 > 0.0 && self.eta2 <= 1.0) {
             return Err(SolverError::invalid("eta2", self.eta2, "0 < η² ≤ 1"));
         }
-        Ok(())
+        self.interface_penalty
+            .as_ref()
+            .map_or(Ok(()), InterfacePenalty::validate)
     }
 
     /// Π_ij for a pair with v_ij·x_ij = `v_dot_x`, r² = `r2`, mean h, c and ρ.
@@ -331,6 +393,7 @@ struct RateSource<const D: usize> {
     pressure_factor: f64,
     /// A wall image: its force on a real particle is the wall's reaction.
     is_wall: bool,
+    material: u16,
 }
 
 /// What the force loop returns for one particle.
@@ -437,6 +500,7 @@ pub fn compute_rates<const D: usize>(
                 pressure_term(p.pressure[k], p.density[k], 0.0, 1.0) / omega(k)
             },
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
+            material: p.material_of(k) as u16,
         })
         .collect();
     let rates: Vec<Rates<D>> = (0..n)
@@ -534,6 +598,19 @@ fn rates_at<const D: usize>(
             out.signal_speed = out.signal_speed.max(v_sig);
             if other.is_wall {
                 out.wall_force -= dx * ((pressure_i + pressure_j + viscous) * inv_r * me.mass);
+            }
+            if let Some(penalty) = &terms.viscosity.interface_penalty {
+                if me.material != other.material {
+                    let force = dx
+                        * (penalty.acceleration_times_distance(r, h)
+                            * inv_r
+                            * inv_r
+                            * (2.0 * me.mass * m_j / (me.mass + m_j)));
+                    out.acceleration += force / me.mass;
+                    if other.is_wall {
+                        out.wall_force += force;
+                    }
+                }
             }
         }
     }

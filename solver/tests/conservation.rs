@@ -448,3 +448,82 @@ fn hot_spot_box<const D: usize>(n: usize, config: SimulationConfig) -> Simulatio
     };
     lattice_box(n, 0.05, hot_spot, Boundary::Periodic, config)
 }
+
+/// The interface penalty (seed eqs. 3-29/3-30) pushes apart only particles of different
+/// materials closer than their mean h, with equal and opposite forces (momentum conserved for
+/// unequal masses), and is zero beyond h. Two cold particles (p = 0) and no viscosity, so the
+/// penalty is the only force.
+#[test]
+fn interface_penalty_repels_different_materials_only_and_conserves_momentum() {
+    use blastsph_solver::{ArtificialViscosity, InterfacePenalty};
+    let gas = IdealGas::new(1.4).unwrap();
+    let pair = |separation: f64, materials: [u16; 2]| {
+        let init: Vec<ParticleInit<1>> =
+            [(0.0, 1.0, materials[0]), (separation, 5.0, materials[1])]
+                .iter()
+                .map(|&(x, mass, material)| ParticleInit {
+                    position: Vector::<1>::new(x),
+                    velocity: Vector::<1>::zeros(),
+                    mass,
+                    smoothing_length: 1.0,
+                    density: 1.0,
+                    internal_energy: 0.0,
+                    material,
+                })
+                .collect();
+        let config = SimulationConfig {
+            smoothing: SmoothingLength::Fixed,
+            viscosity: ArtificialViscosity {
+                alpha: 0.0,
+                beta: 0.0,
+                interface_penalty: Some(InterfacePenalty::seed(1e5)),
+                ..ArtificialViscosity::default()
+            },
+            ..SimulationConfig::default()
+        };
+        let domain = Domain::new(
+            Vector::<1>::new(-10.0),
+            Vector::<1>::new(10.0),
+            [Boundary::Open],
+        );
+        let materials = vec![Material::new("a", gas), Material::new("b", gas)];
+        let sim = Simulation::new(&init, materials, domain, config).unwrap();
+        let p = sim.particles();
+        let order: Vec<usize> = if p.position[0][0] < p.position[1][0] {
+            vec![0, 1]
+        } else {
+            vec![1, 0]
+        };
+        let a: Vec<f64> = order.iter().map(|&i| p.acceleration[i][0]).collect();
+        let m: Vec<f64> = order.iter().map(|&i| p.mass[i]).collect();
+        (a, m)
+    };
+    // pe = h̄/r = 2: PB = p̄ (2¹² − 2⁶)/r, force 2 m1 m2/(m1 + m2) · PB on each, apart
+    let (a, m) = pair(0.5, [0, 1]);
+    let force = 2.0 * 5.0 / 6.0 * 1e5 * (4096.0 - 64.0) / 0.5;
+    assert!((a[0] * m[0] + force).abs() < 1e-9 * force, "{a:?}");
+    assert!((a[1] * m[1] - force).abs() < 1e-9 * force, "{a:?}");
+    // the same material, or farther than h̄: no penalty
+    let (a, _) = pair(0.5, [0, 0]);
+    assert!(a.iter().all(|&x| x == 0.0), "{a:?}");
+    let (a, _) = pair(1.5, [0, 1]);
+    assert!(a.iter().all(|&x| x == 0.0), "{a:?}");
+}
+
+#[test]
+fn interface_penalty_exponents_must_be_ordered() {
+    use blastsph_solver::{ArtificialViscosity, InterfacePenalty};
+    let viscosity = ArtificialViscosity {
+        interface_penalty: Some(InterfacePenalty {
+            p_bar: 1e5,
+            n1: 6.0,
+            n2: 12.0,
+        }),
+        ..ArtificialViscosity::default()
+    };
+    let err = viscosity.validate().unwrap_err().to_string();
+    assert!(
+        err.contains("n1/n2") && err.contains("n1 > n2 > 0"),
+        "{err}"
+    );
+}

@@ -25,8 +25,8 @@ use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EquationOfState, Geometry, KernelShape,
-    Simulation, SimulationConfig, SmoothingLength, Vector,
+    ArtificialViscosity, Boundary, DensityMethod, Domain, EquationOfState, Geometry,
+    InterfacePenalty, KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
 use std::collections::BTreeMap;
 
@@ -89,6 +89,11 @@ pub fn infos() -> Vec<super::ProblemInfo> {
                 ParamSpec::new("cfl", 0.3, "Courant number C"),
                 ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
                 ParamSpec::new("beta", 2.0, "artificial viscosity β"),
+                ParamSpec::new(
+                    "penalty",
+                    0.0,
+                    "interface penalty p̄ (m²/s², seed eq. 3-30 with n1 = 12, n2 = 6; 0: off)",
+                ),
                 // η = 2 (8 neighbours in 1D), as in the shock tubes: at η = 1.2 the discrete
                 // kernel gradient sum misses its continuum value by ~0.2 % whatever the spacing,
                 // so the continuity density overshoots the Hugoniot density and the transmitted
@@ -228,6 +233,10 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         viscosity: ArtificialViscosity {
             alpha: params.number("alpha", 0.0, 10.0)?,
             beta: params.number("beta", 0.0, 10.0)?,
+            interface_penalty: match params.number("penalty", 0.0, 1e12)? {
+                0.0 => None,
+                p_bar => Some(InterfacePenalty::seed(p_bar)),
+            },
             ..ArtificialViscosity::default()
         },
         energy: blastsph_solver::EnergyEquation::OwnPressure,
