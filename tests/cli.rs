@@ -93,7 +93,7 @@ fn verify_writes_the_work_precision_table() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("problem,formulation,run,n_particles,steps,wall_s,l1_rho")
+        Some("problem,formulation,run,n_particles,steps,wall_s,error_name,error")
     );
     assert_eq!(
         lines.filter(|l| l.starts_with("toro-1,")).count(),

@@ -69,10 +69,12 @@ pub fn write_outputs(dir: &Path, output: &ProblemOutput) -> Result<Vec<PathBuf>,
     write_files(dir, files)
 }
 
-/// The error a work–precision plot shows for a problem, if it has one.
-const WORK_PRECISION_ERROR: &str = "l1_rho";
+/// The errors a work–precision plot shows, the first a run has: the L1 density error (shock
+/// tubes, Sedov, the water–air tube), the L1 velocity error over the impact speed (interface
+/// problems), the L1 pressure error over p_CJ (detonation).
+const WORK_PRECISION_ERRORS: [&str; 3] = ["l1_rho", "l1_u_over_v", "l1_p_over_p_cj"];
 
-/// Work against precision over several problems: the L1 density error of every completed run
+/// Work against precision over several problems: the headline L1 error of every completed run
 /// against its wall time, one series per problem (log10 on both axes), as SVG and CSV.
 pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBuf>, VerifyError> {
     let mut csv = csv::Writer::from_writer(Vec::new());
@@ -83,23 +85,27 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
         "n_particles",
         "steps",
         "wall_s",
-        WORK_PRECISION_ERROR,
+        "error_name",
+        "error",
     ])
     .expect("writing to memory");
     let mut panel = Panel {
         title: format!(
-            "L1 density error against wall time ({} cores)",
+            "L1 error against wall time ({} cores)",
             rayon::current_num_threads()
         ),
         x_label: "log10 wall time (s)".into(),
-        y_label: format!("log10 {WORK_PRECISION_ERROR}"),
+        y_label: "log10 L1 error (named in the legend)".into(),
         series: Vec::new(),
     };
     // one series per problem and formulation, in order of first appearance
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for record in records {
         for run in record.runs.iter().filter(|r| r.failure.is_none()) {
-            let Some(&error) = run.errors.get(WORK_PRECISION_ERROR) else {
+            let Some((name, error)) = WORK_PRECISION_ERRORS
+                .iter()
+                .find_map(|&name| run.errors.get(name).map(|&e| (name, e)))
+            else {
                 continue;
             };
             csv.write_record([
@@ -109,14 +115,15 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
                 run.n_particles.to_string(),
                 run.steps.to_string(),
                 format!("{:e}", run.wall_s),
+                name.to_string(),
                 format!("{error:e}"),
             ])
             .expect("writing to memory");
             if run.wall_s > 0.0 && error > 0.0 {
                 let label = if run.formulation.is_empty() {
-                    record.problem.clone()
+                    format!("{}: {name}", record.problem)
                 } else {
-                    format!("{} ({})", record.problem, run.formulation)
+                    format!("{} ({}): {name}", record.problem, run.formulation)
                 };
                 let point = (run.wall_s.log10(), error.log10());
                 match series.iter_mut().find(|(l, _)| *l == label) {
