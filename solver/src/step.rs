@@ -512,6 +512,10 @@ impl<const D: usize> Simulation<D> {
         for (i, rho0) in self.half.density.iter().enumerate() {
             p.density[i] = rho0 + p.density_rate[i] * dt;
         }
+        // the closed density is a state the particle has held too
+        for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
+            *peak = peak.max(*rho);
+        }
     }
 
     /// Smoothing lengths → images → neighbours → density → EOS (× burn fraction) → forces, for

@@ -191,6 +191,20 @@ mod tests {
     }
 
     #[test]
+    fn non_physical_parameters_are_rejected_by_name() {
+        for (rho0, c0, field) in [
+            (0.0, 3940.0, "rho0"),
+            (-1.0, 3940.0, "rho0"),
+            (8930.0, 0.0, "c0"),
+        ] {
+            let err = MieGruneisen::linear(rho0, c0, 1.489, 2.02, -1e9)
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(field) && err.contains("> 0"), "{err}");
+        }
+    }
+
+    #[test]
     fn tension_is_cut_off() {
         let eos = MieGruneisen::linear(8930.0, 3940.0, 1.489, 2.02, -1e9).unwrap();
         assert_eq!(eos.pressure(0.9 * 8930.0, 0.0), -1e9);
