@@ -19,6 +19,7 @@ pub mod particles;
 pub mod physics;
 pub mod radial;
 pub mod step;
+pub mod strength;
 
 pub use boundary::{Boundary, Domain};
 pub use burn::ProgrammedBurn;
@@ -29,6 +30,9 @@ pub use particles::Particles;
 pub use physics::{ArtificialViscosity, DensityMethod, EnergyEquation, InterfacePenalty};
 pub use radial::Geometry;
 pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
+pub use strength::Strength;
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
+/// A D×D tensor (the in-plane block of the deviatoric stress, a velocity gradient).
+pub type Tensor<const D: usize> = nalgebra::SMatrix<f64, D, D>;

@@ -4,7 +4,7 @@
 //! boundary conditions for one step and thrown away before the next. Whoever reorders particles
 //! calls [`Particles::permute`], which moves every field at once.
 
-use crate::Vector;
+use crate::{Tensor, Vector};
 
 /// How an image particle derives from its real source: which velocity components flip.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,6 +45,13 @@ pub struct Particles<const D: usize> {
     /// The highest density each particle has reached (real particles only); empty unless a
     /// material's pressure depends on it (compaction).
     pub peak_density: Vec<f64>,
+    /// Solids: the deviatoric stress (in-plane block, real particles and images), its rate, the
+    /// equivalent plastic strain and the plastic work per unit mass (real particles); empty
+    /// unless some material has strength.
+    pub deviatoric_stress: Vec<Tensor<D>>,
+    pub stress_rate: Vec<Tensor<D>>,
+    pub plastic_strain: Vec<f64>,
+    pub plastic_work: Vec<f64>,
     /// Programmed burn: each particle's lighting time (−∞ where it is not explosive) and burn
     /// fraction F (its pressure is F·p_EOS); empty without a burn.
     pub lighting_time: Vec<f64>,
@@ -53,6 +60,12 @@ pub struct Particles<const D: usize> {
     pub signal_speed: Vec<f64>,
     n_real: usize,
     images: Vec<Image<D>>,
+}
+
+/// A tensor seen in a mirror: components s_ab change sign with the product of the axis signs
+/// (a reflection across the plane normal to axis a flips s_ab for b ≠ a).
+fn mirrored<const D: usize>(s: &Tensor<D>, sign: &Vector<D>) -> Tensor<D> {
+    Tensor::from_fn(|a, b| s[(a, b)] * sign[a] * sign[b])
 }
 
 /// Initial state of one particle.
@@ -76,6 +89,8 @@ pub struct OptionalFields {
     pub grad_h: bool,
     /// The highest density reached (compaction).
     pub peak_density: bool,
+    /// Deviatoric stress and plastic state (solids).
+    pub stress: bool,
 }
 
 impl<const D: usize> Particles<D> {
@@ -118,6 +133,26 @@ impl<const D: usize> Particles<D> {
             },
             peak_density: if optional.peak_density {
                 init.iter().map(|p| p.density).collect()
+            } else {
+                Vec::new()
+            },
+            deviatoric_stress: if optional.stress {
+                vec![Tensor::zeros(); n]
+            } else {
+                Vec::new()
+            },
+            stress_rate: if optional.stress {
+                vec![Tensor::zeros(); n]
+            } else {
+                Vec::new()
+            },
+            plastic_strain: if optional.stress {
+                vec![0.0; n]
+            } else {
+                Vec::new()
+            },
+            plastic_work: if optional.stress {
+                vec![0.0; n]
             } else {
                 Vec::new()
             },
@@ -184,6 +219,9 @@ impl<const D: usize> Particles<D> {
         if !self.omega.is_empty() {
             self.omega.truncate(n);
         }
+        if !self.deviatoric_stress.is_empty() {
+            self.deviatoric_stress.truncate(n);
+        }
         self.images.clear();
     }
 
@@ -209,6 +247,10 @@ impl<const D: usize> Particles<D> {
         if !self.omega.is_empty() {
             self.omega.push(self.omega[s]);
         }
+        if !self.deviatoric_stress.is_empty() {
+            self.deviatoric_stress
+                .push(mirrored(&self.deviatoric_stress[s], &sign));
+        }
         self.images.push(Image {
             source,
             velocity_sign: sign,
@@ -227,6 +269,9 @@ impl<const D: usize> Particles<D> {
             self.smoothing_length[i] = self.smoothing_length[s];
             if let Some(omega) = self.omega.get(s).copied() {
                 self.omega[i] = omega;
+            }
+            if let Some(stress) = self.deviatoric_stress.get(s).copied() {
+                self.deviatoric_stress[i] = mirrored(&stress, &image.velocity_sign);
             }
         }
     }
@@ -258,6 +303,10 @@ impl<const D: usize> Particles<D> {
         apply(&mut self.omega, order);
         apply(&mut self.smoothing_rate, order);
         apply(&mut self.peak_density, order);
+        apply(&mut self.deviatoric_stress, order);
+        apply(&mut self.stress_rate, order);
+        apply(&mut self.plastic_strain, order);
+        apply(&mut self.plastic_work, order);
         apply(&mut self.lighting_time, order);
         apply(&mut self.burn_fraction, order);
     }

@@ -10,7 +10,7 @@ use crate::error::SolverError;
 use crate::kernel::Kernel;
 use crate::neighbours::NeighbourList;
 use crate::particles::Particles;
-use crate::Vector;
+use crate::{Tensor, Vector};
 use rayon::prelude::*;
 
 /// How density is obtained.
@@ -615,4 +615,127 @@ fn rates_at<const D: usize>(
         }
     }
     out
+}
+
+/// What the stress loop reads of a neighbour.
+#[derive(Clone, Copy)]
+struct StressSource<const D: usize> {
+    position: Vector<D>,
+    velocity: Vector<D>,
+    smoothing_length: f64,
+    mass: f64,
+    density: f64,
+    /// s/(Ω ρ²) in the standard form, s/ρ in the volume form (see `pressure_factor`).
+    stress_factor: Tensor<D>,
+    is_wall: bool,
+}
+
+/// The deviatoric-stress part of the solid equations, added to the rates `compute_rates` left
+/// (the seed's σ = −p I + s forms): Dv_i/Dt += Σ_j m_j (s_i/ρ_i² + s_j/ρ_j²)·∇_i W_ij (or the
+/// volume form (s_i + s_j)/(ρ_i ρ_j)), De_i/Dt += s_i:ε̇_i/ρ_i, and the Jaumann stress rate from
+/// the velocity gradient L_i = Σ_j m_j w_ij (v_j − v_i) ⊗ ∇_i W_ij, w_ij = 1/(Ω_i ρ_i) (or
+/// 1/ρ_j in the volume form): the weights that make the work of the stress forces equal the
+/// deviatoric heating, so total energy is conserved. A separate pass, so that fluid scenes carry
+/// no tensors. `shear_modulus[m]` is material m's G (0 for a fluid). Returns the wall force.
+pub fn add_stress_rates<const D: usize>(
+    particles: &mut Particles<D>,
+    neighbours: &NeighbourList,
+    kernel: &Kernel<D>,
+    pair_kernel: PairKernel,
+    shear_modulus: &[f64],
+) -> Vector<D> {
+    let n = particles.n_real();
+    let p = &*particles;
+    let volume_form = !p.density_rate.is_empty();
+    let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
+    let sources: Vec<StressSource<D>> = (0..p.len())
+        .into_par_iter()
+        .map(|k| StressSource {
+            position: p.position[k],
+            velocity: p.velocity[k],
+            smoothing_length: p.smoothing_length[k],
+            mass: p.mass[k],
+            density: p.density[k],
+            stress_factor: if volume_form {
+                p.deviatoric_stress[k] / p.density[k]
+            } else {
+                p.deviatoric_stress[k] / (omega(k) * p.density[k] * p.density[k])
+            },
+            is_wall: p.image(k).is_some_and(|im| im.is_wall),
+        })
+        .collect();
+    let partner = |other: &StressSource<D>| {
+        if volume_form {
+            1.0 / other.density
+        } else {
+            1.0
+        }
+    };
+    let rates: Vec<(Vector<D>, Tensor<D>, Vector<D>)> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let me = &sources[i];
+            let (mut acceleration, mut gradient, mut wall) = (
+                Vector::<D>::zeros(),
+                Tensor::<D>::zeros(),
+                Vector::<D>::zeros(),
+            );
+            for j in neighbours.of(i) {
+                let other = &sources[j];
+                let dx = me.position - other.position;
+                let r = dx.norm();
+                if r == 0.0 {
+                    continue;
+                }
+                let (dw_i, dw_j) = match pair_kernel {
+                    PairKernel::MeanH => {
+                        let dw = kernel
+                            .derivative(r, 0.5 * (me.smoothing_length + other.smoothing_length));
+                        (dw, dw)
+                    }
+                    PairKernel::OwnH => (
+                        kernel.derivative(r, me.smoothing_length),
+                        kernel.derivative(r, other.smoothing_length),
+                    ),
+                };
+                let unit = dx / r;
+                let force = (me.stress_factor * (partner(other) * dw_i)
+                    + other.stress_factor * (partner(me) * dw_j))
+                    * unit
+                    * other.mass;
+                acceleration += force;
+                if other.is_wall {
+                    wall += force * me.mass;
+                }
+                let weight = if volume_form {
+                    1.0 / other.density
+                } else {
+                    1.0 / me.density
+                };
+                gradient += (other.velocity - me.velocity)
+                    * (unit * (other.mass * weight * dw_i)).transpose();
+            }
+            (
+                acceleration,
+                gradient / if volume_form { 1.0 } else { omega(i) },
+                wall,
+            )
+        })
+        .collect();
+    let p = particles;
+    let mut wall_force = Vector::zeros();
+    for (i, (acceleration, gradient, wall)) in rates.into_iter().enumerate() {
+        p.acceleration[i] += acceleration;
+        let s = p.deviatoric_stress[i];
+        let strain_rate = 0.5 * (gradient + gradient.transpose());
+        p.energy_rate[i] += s.component_mul(&strain_rate).sum() / p.density[i];
+        let g = shear_modulus[p.material_of(i)];
+        p.stress_rate[i] = if g > 0.0 {
+            crate::strength::jaumann_rate(g, &s, &gradient)
+        } else {
+            Tensor::zeros()
+        };
+        wall_force += wall;
+    }
+    wall_force
 }

@@ -21,7 +21,7 @@ use crate::physics::{
     self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, SmoothingSolution,
 };
 use crate::radial::{self, Geometry, RadialKernel};
-use crate::Vector;
+use crate::{Tensor, Vector};
 use std::time::Instant;
 
 /// How each particle's smoothing length is set.
@@ -237,6 +237,9 @@ struct HalfStep<const D: usize> {
     velocity: Vec<Vector<D>>,
     internal_energy: Vec<f64>,
     density: Vec<f64>,
+    deviatoric_stress: Vec<Tensor<D>>,
+    plastic_strain: Vec<f64>,
+    plastic_work: Vec<f64>,
 }
 
 #[derive(Debug)]
@@ -305,11 +308,19 @@ impl<const D: usize> Simulation<D> {
             .then(|| RadialKernel::new(config.geometry, config.kernel));
         if radial_kernel.is_some() {
             validate_radial_scene(init, &domain)?;
+            if let Some(solid) = materials.iter().find(|m| m.strength.is_some()) {
+                return Err(SolverError::invalid(
+                    "material",
+                    &solid.name,
+                    "fluids only in a radial geometry (the stress terms are Cartesian)",
+                ));
+            }
         }
         let optional = OptionalFields {
             density_rate: config.density == DensityMethod::Continuity,
             grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
             peak_density: materials.iter().any(|m| m.eos.remembers_peak_density()),
+            stress: materials.iter().any(|m| m.strength.is_some()),
         };
         let mut particles = Particles::new(init, optional);
         let mut burn = burn;
@@ -456,7 +467,8 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// v += a·dt, e += ė·dt, ρ += ρ̇·dt (continuity) for the real particles.
+    /// v += a·dt, e += ė·dt, ρ += ρ̇·dt (continuity), s += ṡ·dt (solids, then the return to
+    /// the yield surface) for the real particles.
     fn kick(&mut self, dt: f64) {
         let p = &mut self.particles;
         for i in 0..p.n_real() {
@@ -465,6 +477,28 @@ impl<const D: usize> Simulation<D> {
         }
         for (rho, rate) in p.density.iter_mut().zip(&p.density_rate) {
             *rho += rate * dt;
+        }
+        for i in 0..p.stress_rate.len() {
+            let rate = p.stress_rate[i];
+            p.deviatoric_stress[i] += rate * dt;
+        }
+        self.return_to_yield_surface();
+    }
+
+    /// Radial return of every solid particle's stress; the plastic strain and the plastic work
+    /// per unit mass (current yield stress × Δε_p / ρ) grow with each return.
+    fn return_to_yield_surface(&mut self) {
+        let p = &mut self.particles;
+        for i in 0..p.plastic_strain.len() {
+            if let Some(strength) = &self.materials[p.material_of(i)].strength {
+                let increment =
+                    strength.return_map(&mut p.deviatoric_stress[i], p.plastic_strain[i]);
+                if increment > 0.0 {
+                    p.plastic_strain[i] += increment;
+                    p.plastic_work[i] +=
+                        strength.current_yield(p.plastic_strain[i]) * increment / p.density[i];
+                }
+            }
         }
     }
 
@@ -499,6 +533,18 @@ impl<const D: usize> Simulation<D> {
         if !p.density_rate.is_empty() {
             self.half.density.extend_from_slice(&p.density[..n]);
         }
+        self.half.deviatoric_stress.clear();
+        self.half.plastic_strain.clear();
+        self.half.plastic_work.clear();
+        if !p.plastic_strain.is_empty() {
+            self.half
+                .deviatoric_stress
+                .extend_from_slice(&p.deviatoric_stress[..n]);
+            self.half
+                .plastic_strain
+                .extend_from_slice(&p.plastic_strain);
+            self.half.plastic_work.extend_from_slice(&p.plastic_work);
+        }
         self.kick(0.5 * dt);
     }
 
@@ -515,6 +561,14 @@ impl<const D: usize> Simulation<D> {
         // the closed density is a state the particle has held too
         for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
             *peak = peak.max(*rho);
+        }
+        if !p.plastic_strain.is_empty() {
+            for (i, s0) in self.half.deviatoric_stress.iter().enumerate() {
+                p.deviatoric_stress[i] = s0 + p.stress_rate[i] * dt;
+            }
+            p.plastic_strain.copy_from_slice(&self.half.plastic_strain);
+            p.plastic_work.copy_from_slice(&self.half.plastic_work);
+            self.return_to_yield_surface();
         }
     }
 
@@ -559,6 +613,16 @@ impl<const D: usize> Simulation<D> {
             p.pressure[i] = eos.pressure_after(rho, e, peak);
             p.sound_speed[i] = eos.sound_speed_after(rho, e, peak);
         }
+        // a solid carries shear waves too: the P-wave speed √(c² + 4G/(3ρ)) sets the time step
+        if !p.deviatoric_stress.is_empty() {
+            for i in 0..p.n_real() {
+                if let Some(strength) = &self.materials[p.material_of(i)].strength {
+                    let c2 = p.sound_speed[i].powi(2)
+                        + 4.0 * strength.shear_modulus / (3.0 * p.density[i]);
+                    p.sound_speed[i] = c2.sqrt();
+                }
+            }
+        }
         if let Some(burn) = &self.burn {
             // the fraction never falls (h may grow as the products expand); the sound speed
             // stays the products' own, which keeps the time step safe as the charge lights
@@ -588,6 +652,20 @@ impl<const D: usize> Simulation<D> {
                 self.config.energy,
                 self.config.smoothing.pair_kernel(),
             );
+            if !p.deviatoric_stress.is_empty() {
+                let shear_modulus: Vec<f64> = self
+                    .materials
+                    .iter()
+                    .map(|m| m.strength.map_or(0.0, |s| s.shear_modulus))
+                    .collect();
+                self.wall_force += physics::add_stress_rates(
+                    p,
+                    &self.neighbours,
+                    &self.kernel,
+                    self.config.smoothing.pair_kernel(),
+                    &shear_modulus,
+                );
+            }
         }
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())

@@ -13,6 +13,7 @@ pub use mie_gruneisen::MieGruneisen;
 pub use stiffened_gas::StiffenedGas;
 
 use crate::error::SolverError;
+use crate::strength::Strength;
 use std::fmt::Debug;
 
 /// p(ρ, e) and c(ρ, e) of a material.
@@ -80,18 +81,29 @@ impl EquationOfState for IdealGas {
     }
 }
 
-/// A named material: its equation of state (strength models join it later).
+/// A named material: its equation of state and, for a solid, its strength.
 #[derive(Debug)]
 pub struct Material {
     pub name: String,
     pub eos: Box<dyn EquationOfState>,
+    pub strength: Option<Strength>,
 }
 
 impl Material {
+    /// A fluid (no strength).
     pub fn new(name: impl Into<String>, eos: impl EquationOfState + 'static) -> Self {
         Self {
             name: name.into(),
             eos: Box::new(eos),
+            strength: None,
+        }
+    }
+
+    /// The same material as a solid with `strength`.
+    pub fn with_strength(self, strength: Strength) -> Self {
+        Self {
+            strength: Some(strength),
+            ..self
         }
     }
 }

@@ -1,0 +1,210 @@
+//! Strength of solids: hypoelastic deviatoric stress with von Mises plasticity.
+//!
+//! The deviatoric stress s evolves by the Jaumann rate (objective under rotation),
+//! ṡ = 2G (ε̇ − ⅓ tr ε̇ I) + Ω s − s Ω, with ε̇ and Ω the symmetric and antisymmetric parts of
+//! the velocity gradient. After each update the stress is returned radially to the yield surface
+//! (Wilkins 1964): if σ_eq = √(3/2 s:s) exceeds the yield stress Y, s is scaled by Y/σ_eq and the
+//! equivalent plastic strain grows by (σ_eq − Y)/(3G + H). Y = Y0 + H ε_p (bilinear isotropic
+//! hardening; H = 0 is the thesis' elastic–perfectly plastic von Mises model).
+//!
+//! In 1D and 2D the stored tensor is the in-plane block; the out-of-plane normal components
+//! follow from tr s = 0 (uniaxial strain in 1D: the two transverse components are equal;
+//! plane strain in 2D: one), so s:s = |s_D|² + (tr s_D)²/(3 − D).
+
+use crate::error::SolverError;
+use nalgebra::SMatrix;
+
+/// Elastic–plastic strength: shear modulus, initial yield stress, linear hardening modulus.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Strength {
+    pub shear_modulus: f64,
+    pub yield_stress: f64,
+    pub hardening_modulus: f64,
+}
+
+impl Strength {
+    pub fn new(
+        shear_modulus: f64,
+        yield_stress: f64,
+        hardening_modulus: f64,
+    ) -> Result<Self, SolverError> {
+        for (field, value) in [
+            ("shear modulus", shear_modulus),
+            ("yield stress", yield_stress),
+        ] {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(SolverError::invalid(field, value, "finite and > 0"));
+            }
+        }
+        if !(hardening_modulus >= 0.0 && hardening_modulus.is_finite()) {
+            return Err(SolverError::invalid(
+                "hardening modulus",
+                hardening_modulus,
+                "finite and ≥ 0",
+            ));
+        }
+        Ok(Self {
+            shear_modulus,
+            yield_stress,
+            hardening_modulus,
+        })
+    }
+
+    /// The shear modulus G = E/(2(1 + ν)) and bulk modulus K = E/(3(1 − 2ν)) of Young's
+    /// modulus E and Poisson's ratio ν ∈ (−1, 0.5).
+    pub fn elastic_moduli(young: f64, poisson: f64) -> Result<(f64, f64), SolverError> {
+        if !(young > 0.0 && young.is_finite()) {
+            return Err(SolverError::invalid(
+                "Young's modulus",
+                young,
+                "finite and > 0",
+            ));
+        }
+        if !(poisson > -1.0 && poisson < 0.5) {
+            return Err(SolverError::invalid(
+                "Poisson's ratio",
+                poisson,
+                "−1 < ν < 0.5",
+            ));
+        }
+        Ok((
+            young / (2.0 * (1.0 + poisson)),
+            young / (3.0 * (1.0 - 2.0 * poisson)),
+        ))
+    }
+
+    /// The current yield stress after equivalent plastic strain ε_p.
+    pub fn current_yield(&self, plastic_strain: f64) -> f64 {
+        self.yield_stress + self.hardening_modulus * plastic_strain
+    }
+
+    /// Radial return of `s` onto the yield surface. Returns the increment of equivalent plastic
+    /// strain (0 where the state is elastic).
+    pub fn return_map<const D: usize>(
+        &self,
+        s: &mut SMatrix<f64, D, D>,
+        plastic_strain: f64,
+    ) -> f64 {
+        let sigma_eq = von_mises(s);
+        let yield_stress = self.current_yield(plastic_strain);
+        if sigma_eq <= yield_stress {
+            return 0.0;
+        }
+        // consistency with hardening: σ_eq − 3G Δε = Y0 + H (ε_p + Δε)
+        let increment =
+            (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.hardening_modulus);
+        *s *= (sigma_eq - 3.0 * self.shear_modulus * increment) / sigma_eq;
+        increment
+    }
+}
+
+/// s:s of the full 3D deviator whose in-plane block is `s` (see the module note).
+pub fn full_contraction<const D: usize>(s: &SMatrix<f64, D, D>) -> f64 {
+    let out_of_plane = 3 - D;
+    let in_plane = s.norm_squared();
+    if out_of_plane == 0 {
+        in_plane
+    } else {
+        in_plane + s.trace().powi(2) / out_of_plane as f64
+    }
+}
+
+/// Von Mises equivalent stress √(3/2 s:s).
+pub fn von_mises<const D: usize>(s: &SMatrix<f64, D, D>) -> f64 {
+    (1.5 * full_contraction(s)).sqrt()
+}
+
+/// The Jaumann stress rate 2G (ε̇ − ⅓ tr ε̇ I) + Ω s − s Ω from the velocity gradient
+/// L_ab = ∂v_a/∂x_b (out-of-plane strain rates are zero).
+pub fn jaumann_rate<const D: usize>(
+    shear_modulus: f64,
+    s: &SMatrix<f64, D, D>,
+    velocity_gradient: &SMatrix<f64, D, D>,
+) -> SMatrix<f64, D, D> {
+    let strain_rate = 0.5 * (velocity_gradient + velocity_gradient.transpose());
+    let spin = 0.5 * (velocity_gradient - velocity_gradient.transpose());
+    let deviatoric = strain_rate - SMatrix::<f64, D, D>::identity() * (strain_rate.trace() / 3.0);
+    deviatoric * (2.0 * shear_modulus) + spin * s - s * spin
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix1, Matrix2, Matrix3};
+    use proptest::prelude::*;
+
+    fn copper() -> Strength {
+        Strength::new(43.3e9, 400e6, 100e6).unwrap()
+    }
+
+    /// Uniaxial strain in 1D: s_xx = 4/3 G ε and the transverse components −2/3 G ε, so
+    /// σ_eq = 3/2 |s_xx| = 2G|ε|.
+    #[test]
+    fn uniaxial_strain_has_the_right_equivalent_stress() {
+        let s = Matrix1::new(4.0 / 3.0 * 10.0);
+        assert!((von_mises(&s) - 20.0).abs() < 1e-12);
+        let rate = jaumann_rate(10.0, &Matrix1::zeros(), &Matrix1::new(1.0));
+        assert!((rate[0] - 40.0 / 3.0).abs() < 1e-12);
+    }
+
+    /// Plane strain pure shear ε_xy: σ_eq = √3 |s_xy|; and 3D agrees with the 2D form when
+    /// the 3D tensor has the 2D block and s_zz = −tr.
+    #[test]
+    fn plane_strain_contraction_matches_the_full_tensor() {
+        let s2 = Matrix2::new(3.0, 1.5, 1.5, -1.0);
+        let s3 = Matrix3::new(3.0, 1.5, 0.0, 1.5, -1.0, 0.0, 0.0, 0.0, -2.0);
+        assert!((full_contraction(&s2) - full_contraction(&s3)).abs() < 1e-12);
+    }
+
+    /// A rigid rotation (no strain) leaves σ_eq unchanged: the Jaumann rate of a spin is
+    /// tangent to the sphere s:s = const.
+    #[test]
+    fn a_spin_does_not_change_the_equivalent_stress() {
+        let s = Matrix2::new(2.0, 0.7, 0.7, -2.0);
+        let spin = Matrix2::new(0.0, 0.3, -0.3, 0.0);
+        let rate = jaumann_rate(50.0, &s, &spin);
+        // d(s:s)/dt = 2 s:ṡ = 0
+        assert!(s.component_mul(&rate).sum().abs() < 1e-12);
+    }
+
+    proptest! {
+        /// After the return no state lies outside the (hardened) yield surface by more than
+        /// 1e-12 relative, and the return is radial (direction kept).
+        #[test]
+        fn return_map_lands_on_the_yield_surface(
+            a in -2e9f64..2e9, b in -2e9f64..2e9, c in -2e9f64..2e9, eps in 0.0f64..1.0
+        ) {
+            let strength = copper();
+            let mut s = Matrix2::new(a, c, c, b);
+            let before = s;
+            let increment = strength.return_map(&mut s, eps);
+            let limit = strength.current_yield(eps + increment);
+            prop_assert!(von_mises(&s) <= limit * (1.0 + 1e-12));
+            if increment > 0.0 {
+                prop_assert!((von_mises(&s) / limit - 1.0).abs() < 1e-12);
+                let k = s[(0, 0)] / before[(0, 0)];
+                prop_assert!((s - before * k).norm() <= 1e-9 * before.norm());
+            } else {
+                prop_assert_eq!(s, before);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_moduli_are_rejected_by_name() {
+        assert!(Strength::new(-1.0, 1.0, 0.0)
+            .unwrap_err()
+            .to_string()
+            .contains("shear modulus"));
+        assert!(Strength::new(1.0, 0.0, 0.0)
+            .unwrap_err()
+            .to_string()
+            .contains("yield stress"));
+        let err = Strength::elastic_moduli(117e9, 0.5)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("Poisson") && err.contains("0.5"), "{err}");
+        let (g, k) = Strength::elastic_moduli(117e9, 0.35).unwrap();
+        assert!((g - 43.333e9).abs() < 1e7 && (k - 130e9).abs() < 1e7);
+    }
+}
