@@ -201,3 +201,17 @@ fn tnt_slab_passes_its_quick_checks() {
         .check("peak_pressure_error_finest_over_coarsest")
         .is_some());
 }
+
+/// The elastic pulse at quick level: the P-wave speed √((K + 4G/3)/ρ) within 1 % in 1D and in
+/// 2D plane strain, and total energy within 1e-4 of the pulse's energy.
+#[test]
+fn elastic_wave_passes_its_quick_checks() {
+    let out = run("elastic-wave", &[]);
+    assert_all_checks_pass(&out);
+    for dim in ["1D", "2D"] {
+        assert!(out
+            .record
+            .check(&format!("wave_speed_relative_{dim}"))
+            .is_some_and(|c| c.limit == 0.01));
+    }
+}

@@ -3,7 +3,7 @@
 //! get a solver `Material`; an unknown name or a missing parameter is an error naming it.
 
 use crate::VerifyError;
-use blastsph_solver::{Compaction, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
+use blastsph_solver::{Compaction, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas, Strength};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -173,6 +173,19 @@ impl Library {
                 StiffenedGas::new(get("gamma")?, get("p_inf")?, get("p_min")?)?,
             ),
             "mie-gruneisen" => Material::new(name, self.mie_gruneisen(name)?),
+            "elastic-plastic" => {
+                let (shear, bulk) = Strength::elastic_moduli(get("young")?, get("poisson")?)?;
+                let rho0 = get("rho0")?;
+                // p = ρ0 c0² (1 − ρ0/ρ) with c0² = K/ρ0: the linear bulk response, no
+                // Grüneisen term (the benchmark is isothermal elasticity)
+                let eos =
+                    MieGruneisen::linear(rho0, (bulk / rho0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY)?;
+                Material::new(name, eos).with_strength(Strength::new(
+                    shear,
+                    get("yield")?,
+                    get("hardening")?,
+                )?)
+            }
             "compaction" => Material::new(
                 name,
                 Compaction::new(
@@ -185,7 +198,7 @@ impl Library {
                 return Err(VerifyError::bad_value(
                     &format!("model of material {name}"),
                     other,
-                    "ideal-gas, jwl, stiffened-gas, mie-gruneisen or compaction",
+                    "ideal-gas, jwl, stiffened-gas, mie-gruneisen, compaction or elastic-plastic",
                 ))
             }
         };

@@ -2,6 +2,7 @@
 //! exact answer, checks with justified limits.
 
 mod density_ratio_tube;
+mod elastic_wave;
 mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
@@ -28,6 +29,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.extend(impedance_mismatch::infos());
     list.push(density_ratio_tube::info());
     list.push(tnt_slab::info());
+    list.push(elastic_wave::info());
     list
 }
 
@@ -58,6 +60,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if name == elastic_wave::NAME {
+        elastic_wave::run(&params, progress)?
     } else if name == tnt_slab::NAME {
         tnt_slab::run(&params, progress)?
     } else if name == density_ratio_tube::NAME {
