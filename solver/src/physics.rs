@@ -83,6 +83,10 @@ pub struct ArtificialViscosity {
     /// The seed's interface penalty force between particles of different materials (off when
     /// `None`).
     pub interface_penalty: Option<InterfacePenalty>,
+    /// Balsara's switch: each pair's Π scaled by the mean of the two particles' factors
+    /// [`balsara_factor`], which spares shear flow (plastic solids) while shocks keep their
+    /// viscosity.
+    pub balsara: bool,
 }
 
 /// Repulsion between particles of different materials that come closer than their mean
@@ -149,6 +153,7 @@ impl Default for ArtificialViscosity {
             eta2: 0.01,
             alpha_u: 0.0,
             interface_penalty: None,
+            balsara: false,
         }
     }
 }
@@ -394,6 +399,8 @@ struct RateSource<const D: usize> {
     /// A wall image: its force on a real particle is the wall's reaction.
     is_wall: bool,
     material: u16,
+    /// Balsara factor (1 without the switch).
+    balsara: f64,
 }
 
 /// What the force loop returns for one particle.
@@ -462,7 +469,8 @@ pub enum PairKernel {
 /// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij·∇_i W_ij (continuity, see [`DensityMethod::Continuity`]) or
 /// Σ_j m_j v_ij·∇_i W_ij(h_i) (the rate of the grad-h summation density),
 /// with the grad-h forms where `pair_kernel` is [`PairKernel::OwnH`] (the particles then carry
-/// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess).
+/// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess). `balsara` holds each real
+/// particle's switch factor where the switch is on.
 /// Returns the total force the walls exert on the particles.
 pub fn compute_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -471,6 +479,7 @@ pub fn compute_rates<const D: usize>(
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
     pair_kernel: PairKernel,
+    balsara: Option<&[f64]>,
 ) -> Vector<D> {
     let n = particles.n_real();
     let p = &*particles;
@@ -501,6 +510,7 @@ pub fn compute_rates<const D: usize>(
             },
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
             material: p.material_of(k) as u16,
+            balsara: balsara.map_or(1.0, |f| f[p.real_index(k)]),
         })
         .collect();
     let rates: Vec<Rates<D>> = (0..n)
@@ -568,7 +578,8 @@ fn rates_at<const D: usize>(
             let v_dot_x = v_ij.dot(&dx);
             let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
             let rho_mean = 0.5 * (me.density + other.density);
-            let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean);
+            let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean)
+                * (0.5 * (me.balsara + other.balsara));
             let m_j = other.mass;
             // every gradient here is dW/dr · x_ij/r, so the pair's terms combine as scalars
             let pressure_i = m_j * me.pressure_factor * terms.partner_factor(other) * dw_i;
@@ -617,11 +628,67 @@ fn rates_at<const D: usize>(
     out
 }
 
+/// The velocity gradient L_i = Σ_j m_j w_ij (v_j − v_i) ⊗ ∇_i W_ij of the real particles, with
+/// w_ij = 1/(Ω_i ρ_i) in the standard form and 1/ρ_j in the volume form (continuity density):
+/// the weights under which the work of the stress forces equals the deviatoric heating
+/// s_i:ε̇_i/ρ_i exactly (see [`add_stress_rates`]). Also the source of the Balsara switch.
+pub fn velocity_gradients<const D: usize>(
+    particles: &Particles<D>,
+    neighbours: &NeighbourList,
+    kernel: &Kernel<D>,
+    pair_kernel: PairKernel,
+) -> Vec<Tensor<D>> {
+    let p = particles;
+    let volume_form = !p.density_rate.is_empty();
+    (0..p.n_real())
+        .into_par_iter()
+        .map(|i| {
+            let mut gradient = Tensor::<D>::zeros();
+            for j in neighbours.of(i) {
+                let dx = p.position[i] - p.position[j];
+                let r = dx.norm();
+                if r == 0.0 {
+                    continue;
+                }
+                let h = match pair_kernel {
+                    PairKernel::MeanH => 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]),
+                    PairKernel::OwnH => p.smoothing_length[i],
+                };
+                let weight = if volume_form {
+                    1.0 / p.density[j]
+                } else {
+                    1.0 / p.density[i]
+                };
+                let scale = p.mass[j] * weight * kernel.derivative(r, h) / r;
+                gradient += (p.velocity[j] - p.velocity[i]) * (dx * scale).transpose();
+            }
+            if volume_form {
+                gradient
+            } else {
+                gradient / p.omega.get(i).copied().unwrap_or(1.0)
+            }
+        })
+        .collect()
+}
+
+/// Balsara's (1995) switch f_i = |∇·v| / (|∇·v| + |∇×v| + 1e-4 c_i/h_i): near 1 in compression,
+/// near 0 in shear, so the viscosity meant for shocks spares shearing (plastic) flow. The
+/// curl's magnitude in 2D is |L_yx − L_xy|; in 3D the norm of the axial vector; in 1D zero.
+pub fn balsara_factor<const D: usize>(gradient: &Tensor<D>, sound_speed: f64, h: f64) -> f64 {
+    let divergence = gradient.trace().abs();
+    let mut curl2 = 0.0;
+    for a in 0..D {
+        for b in (a + 1)..D {
+            curl2 += (gradient[(b, a)] - gradient[(a, b)]).powi(2);
+        }
+    }
+    divergence / (divergence + curl2.sqrt() + 1e-4 * sound_speed / h)
+}
+
 /// What the stress loop reads of a neighbour.
 #[derive(Clone, Copy)]
 struct StressSource<const D: usize> {
     position: Vector<D>,
-    velocity: Vector<D>,
     smoothing_length: f64,
     mass: f64,
     density: f64,
@@ -636,12 +703,14 @@ struct StressSource<const D: usize> {
 /// the velocity gradient L_i = Σ_j m_j w_ij (v_j − v_i) ⊗ ∇_i W_ij, w_ij = 1/(Ω_i ρ_i) (or
 /// 1/ρ_j in the volume form): the weights that make the work of the stress forces equal the
 /// deviatoric heating, so total energy is conserved. A separate pass, so that fluid scenes carry
-/// no tensors. `shear_modulus[m]` is material m's G (0 for a fluid). Returns the wall force.
+/// no tensors. `velocity_gradient` comes from [`velocity_gradients`]; `shear_modulus[m]` is
+/// material m's G (0 for a fluid). Returns the wall force.
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
     kernel: &Kernel<D>,
     pair_kernel: PairKernel,
+    velocity_gradient: &[Tensor<D>],
     shear_modulus: &[f64],
 ) -> Vector<D> {
     let n = particles.n_real();
@@ -652,7 +721,6 @@ pub fn add_stress_rates<const D: usize>(
         .into_par_iter()
         .map(|k| StressSource {
             position: p.position[k],
-            velocity: p.velocity[k],
             smoothing_length: p.smoothing_length[k],
             mass: p.mass[k],
             density: p.density[k],
@@ -671,15 +739,11 @@ pub fn add_stress_rates<const D: usize>(
             1.0
         }
     };
-    let rates: Vec<(Vector<D>, Tensor<D>, Vector<D>)> = (0..n)
+    let rates: Vec<(Vector<D>, Vector<D>)> = (0..n)
         .into_par_iter()
         .map(|i| {
             let me = &sources[i];
-            let (mut acceleration, mut gradient, mut wall) = (
-                Vector::<D>::zeros(),
-                Tensor::<D>::zeros(),
-                Vector::<D>::zeros(),
-            );
+            let (mut acceleration, mut wall) = (Vector::<D>::zeros(), Vector::<D>::zeros());
             for j in neighbours.of(i) {
                 let other = &sources[j];
                 let dx = me.position - other.position;
@@ -698,40 +762,29 @@ pub fn add_stress_rates<const D: usize>(
                         kernel.derivative(r, other.smoothing_length),
                     ),
                 };
-                let unit = dx / r;
                 let force = (me.stress_factor * (partner(other) * dw_i)
                     + other.stress_factor * (partner(me) * dw_j))
-                    * unit
+                    * (dx / r)
                     * other.mass;
                 acceleration += force;
                 if other.is_wall {
                     wall += force * me.mass;
                 }
-                let weight = if volume_form {
-                    1.0 / other.density
-                } else {
-                    1.0 / me.density
-                };
-                gradient += (other.velocity - me.velocity)
-                    * (unit * (other.mass * weight * dw_i)).transpose();
             }
-            (
-                acceleration,
-                gradient / if volume_form { 1.0 } else { omega(i) },
-                wall,
-            )
+            (acceleration, wall)
         })
         .collect();
     let p = particles;
     let mut wall_force = Vector::zeros();
-    for (i, (acceleration, gradient, wall)) in rates.into_iter().enumerate() {
+    for (i, (acceleration, wall)) in rates.into_iter().enumerate() {
         p.acceleration[i] += acceleration;
         let s = p.deviatoric_stress[i];
+        let gradient = &velocity_gradient[i];
         let strain_rate = 0.5 * (gradient + gradient.transpose());
         p.energy_rate[i] += s.component_mul(&strain_rate).sum() / p.density[i];
         let g = shear_modulus[p.material_of(i)];
         p.stress_rate[i] = if g > 0.0 {
-            crate::strength::jaumann_rate(g, &s, &gradient)
+            crate::strength::jaumann_rate(g, &s, gradient)
         } else {
             Tensor::zeros()
         };

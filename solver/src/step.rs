@@ -644,15 +644,35 @@ impl<const D: usize> Simulation<D> {
                 self.config.energy,
             );
         } else {
+            let pair_kernel = self.config.smoothing.pair_kernel();
+            let solids = !p.deviatoric_stress.is_empty();
+            let gradients = (solids || self.config.viscosity.balsara).then(|| {
+                physics::velocity_gradients(p, &self.neighbours, &self.kernel, pair_kernel)
+            });
+            let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
+                (Some(gradients), true) => Some(
+                    (0..p.n_real())
+                        .map(|i| {
+                            physics::balsara_factor(
+                                &gradients[i],
+                                p.sound_speed[i],
+                                p.smoothing_length[i],
+                            )
+                        })
+                        .collect(),
+                ),
+                _ => None,
+            };
             self.wall_force = physics::compute_rates(
                 p,
                 &self.neighbours,
                 &self.kernel,
                 &self.config.viscosity,
                 self.config.energy,
-                self.config.smoothing.pair_kernel(),
+                pair_kernel,
+                balsara.as_deref(),
             );
-            if !p.deviatoric_stress.is_empty() {
+            if let (true, Some(gradients)) = (solids, &gradients) {
                 let shear_modulus: Vec<f64> = self
                     .materials
                     .iter()
@@ -662,7 +682,8 @@ impl<const D: usize> Simulation<D> {
                     p,
                     &self.neighbours,
                     &self.kernel,
-                    self.config.smoothing.pair_kernel(),
+                    pair_kernel,
+                    gradients,
                     &shear_modulus,
                 );
             }

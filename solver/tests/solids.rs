@@ -132,3 +132,17 @@ fn plastic_flow_stays_on_the_yield_surface() {
         }
     }
 }
+
+/// Balsara's switch: 1 in pure compression, near 0 in pure shear or rotation (where a
+/// compressive pair velocity still turns the plain viscosity on).
+#[test]
+fn balsara_switch_tells_compression_from_shear() {
+    use blastsph_solver::physics::balsara_factor;
+    use nalgebra::Matrix2;
+    let compression = Matrix2::new(-1.0, 0.0, 0.0, -1.0);
+    let shear = Matrix2::new(0.0, 1.0, 0.0, 0.0);
+    let rotation = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+    assert!((balsara_factor(&compression, 1.0, 1.0) - 1.0).abs() < 1e-3);
+    assert!(balsara_factor(&shear, 1.0, 1.0) < 1e-3);
+    assert!(balsara_factor(&rotation, 1.0, 1.0) < 1e-3);
+}
