@@ -491,12 +491,15 @@ impl<const D: usize> Simulation<D> {
         let p = &mut self.particles;
         for i in 0..p.plastic_strain.len() {
             if let Some(strength) = &self.materials[p.material_of(i)].strength {
+                // the pressure of the last force evaluation (Drucker–Prager's limit rises with it)
+                let pressure = p.pressure[i];
                 let increment =
-                    strength.return_map(&mut p.deviatoric_stress[i], p.plastic_strain[i]);
+                    strength.return_map(&mut p.deviatoric_stress[i], p.plastic_strain[i], pressure);
                 if increment > 0.0 {
                     p.plastic_strain[i] += increment;
-                    p.plastic_work[i] +=
-                        strength.current_yield(p.plastic_strain[i]) * increment / p.density[i];
+                    p.plastic_work[i] += strength.current_yield(p.plastic_strain[i], pressure)
+                        * increment
+                        / p.density[i];
                 }
             }
         }

@@ -14,28 +14,41 @@
 use crate::error::SolverError;
 use nalgebra::SMatrix;
 
-/// Elastic–plastic strength: shear modulus, initial yield stress, linear hardening modulus.
+/// Where plastic flow begins, as a limit on the von Mises equivalent stress σ_eq.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum YieldSurface {
+    /// σ_eq ≤ Y0 + H ε_p: von Mises with linear isotropic hardening (H = 0: the thesis'
+    /// elastic–perfectly plastic model).
+    VonMises {
+        yield_stress: f64,
+        hardening_modulus: f64,
+    },
+    /// Drucker–Prager matched to the Mohr–Coulomb compression meridian (cohesion c, friction
+    /// angle φ): σ_eq ≤ (6 c cos φ + 6 p sin φ)/(3 − sin φ), and no shear strength at all below
+    /// the tension cutoff p < −σ_t (the soil has failed in tension there).
+    DruckerPrager {
+        cohesion: f64,
+        friction_angle: f64,
+        tensile_strength: f64,
+    },
+}
+
+/// Elastic–plastic strength: the shear modulus and the yield surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Strength {
     pub shear_modulus: f64,
-    pub yield_stress: f64,
-    pub hardening_modulus: f64,
+    pub surface: YieldSurface,
 }
 
 impl Strength {
+    /// Von Mises with linear hardening.
     pub fn new(
         shear_modulus: f64,
         yield_stress: f64,
         hardening_modulus: f64,
     ) -> Result<Self, SolverError> {
-        for (field, value) in [
-            ("shear modulus", shear_modulus),
-            ("yield stress", yield_stress),
-        ] {
-            if !(value > 0.0 && value.is_finite()) {
-                return Err(SolverError::invalid(field, value, "finite and > 0"));
-            }
-        }
+        positive("shear modulus", shear_modulus)?;
+        positive("yield stress", yield_stress)?;
         if !(hardening_modulus >= 0.0 && hardening_modulus.is_finite()) {
             return Err(SolverError::invalid(
                 "hardening modulus",
@@ -45,8 +58,59 @@ impl Strength {
         }
         Ok(Self {
             shear_modulus,
-            yield_stress,
-            hardening_modulus,
+            surface: YieldSurface::VonMises {
+                yield_stress,
+                hardening_modulus,
+            },
+        })
+    }
+
+    /// Drucker–Prager / Mohr–Coulomb for soil: cohesion c ≥ 0 (Pa), friction angle φ in degrees
+    /// in [0, 60), tensile strength σ_t ≥ 0 (Pa) no larger than the cone's apex c/tan φ.
+    pub fn drucker_prager(
+        shear_modulus: f64,
+        cohesion: f64,
+        friction_angle_degrees: f64,
+        tensile_strength: f64,
+    ) -> Result<Self, SolverError> {
+        positive("shear modulus", shear_modulus)?;
+        if !(cohesion >= 0.0 && cohesion.is_finite()) {
+            return Err(SolverError::invalid("cohesion", cohesion, "finite and ≥ 0"));
+        }
+        if !(0.0..60.0).contains(&friction_angle_degrees) {
+            return Err(SolverError::invalid(
+                "friction angle",
+                friction_angle_degrees,
+                "0 ≤ φ < 60 degrees",
+            ));
+        }
+        if cohesion == 0.0 && friction_angle_degrees == 0.0 {
+            return Err(SolverError::invalid(
+                "cohesion and friction angle",
+                "0, 0",
+                "not both zero (the material would have no strength)",
+            ));
+        }
+        let phi = friction_angle_degrees.to_radians();
+        let apex = if phi > 0.0 {
+            cohesion / phi.tan()
+        } else {
+            f64::INFINITY
+        };
+        if !(tensile_strength >= 0.0 && tensile_strength <= apex) {
+            return Err(SolverError::invalid(
+                "tensile strength",
+                tensile_strength,
+                &format!("0 ≤ σ_t ≤ c/tan φ = {apex:.4e} Pa (the cone's apex)"),
+            ));
+        }
+        Ok(Self {
+            shear_modulus,
+            surface: YieldSurface::DruckerPrager {
+                cohesion,
+                friction_angle: phi,
+                tensile_strength,
+            },
         })
     }
 
@@ -73,28 +137,69 @@ impl Strength {
         ))
     }
 
-    /// The current yield stress after equivalent plastic strain ε_p.
-    pub fn current_yield(&self, plastic_strain: f64) -> f64 {
-        self.yield_stress + self.hardening_modulus * plastic_strain
+    /// The limit on σ_eq after equivalent plastic strain ε_p at pressure p.
+    pub fn current_yield(&self, plastic_strain: f64, pressure: f64) -> f64 {
+        match self.surface {
+            YieldSurface::VonMises {
+                yield_stress,
+                hardening_modulus,
+            } => yield_stress + hardening_modulus * plastic_strain,
+            YieldSurface::DruckerPrager {
+                cohesion,
+                friction_angle,
+                tensile_strength,
+            } => {
+                if pressure < -tensile_strength {
+                    return 0.0;
+                }
+                let (sin, cos) = friction_angle.sin_cos();
+                (6.0 * (cohesion * cos + pressure * sin) / (3.0 - sin)).max(0.0)
+            }
+        }
     }
 
-    /// Radial return of `s` onto the yield surface. Returns the increment of equivalent plastic
-    /// strain (0 where the state is elastic).
+    /// The hardening modulus dY/dε_p (0 for Drucker–Prager).
+    fn hardening(&self) -> f64 {
+        match self.surface {
+            YieldSurface::VonMises {
+                hardening_modulus, ..
+            } => hardening_modulus,
+            YieldSurface::DruckerPrager { .. } => 0.0,
+        }
+    }
+
+    /// Whether a particle at pressure p has failed in tension (no shear strength).
+    pub fn failed_in_tension(&self, pressure: f64) -> bool {
+        matches!(self.surface, YieldSurface::DruckerPrager { tensile_strength, .. }
+            if pressure < -tensile_strength)
+    }
+
+    /// Radial return of `s` onto the yield surface at pressure p (the deviator is scaled at fixed
+    /// p, Wilkins' scheme; for Drucker–Prager a non-associated return). Returns the increment
+    /// of equivalent plastic strain (0 where the state is elastic).
     pub fn return_map<const D: usize>(
         &self,
         s: &mut SMatrix<f64, D, D>,
         plastic_strain: f64,
+        pressure: f64,
     ) -> f64 {
         let sigma_eq = von_mises(s);
-        let yield_stress = self.current_yield(plastic_strain);
+        let yield_stress = self.current_yield(plastic_strain, pressure);
         if sigma_eq <= yield_stress {
             return 0.0;
         }
         // consistency with hardening: σ_eq − 3G Δε = Y0 + H (ε_p + Δε)
-        let increment =
-            (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.hardening_modulus);
-        *s *= (sigma_eq - 3.0 * self.shear_modulus * increment) / sigma_eq;
+        let increment = (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.hardening());
+        *s *= ((sigma_eq - 3.0 * self.shear_modulus * increment) / sigma_eq).max(0.0);
         increment
+    }
+}
+
+fn positive(field: &str, value: f64) -> Result<(), SolverError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(SolverError::invalid(field, value, "finite and > 0"))
     }
 }
 
@@ -177,8 +282,8 @@ mod tests {
             let strength = copper();
             let mut s = Matrix2::new(a, c, c, b);
             let before = s;
-            let increment = strength.return_map(&mut s, eps);
-            let limit = strength.current_yield(eps + increment);
+            let increment = strength.return_map(&mut s, eps, 0.0);
+            let limit = strength.current_yield(eps + increment, 0.0);
             prop_assert!(von_mises(&s) <= limit * (1.0 + 1e-12));
             if increment > 0.0 {
                 prop_assert!((von_mises(&s) / limit - 1.0).abs() < 1e-12);
@@ -188,6 +293,34 @@ mod tests {
                 prop_assert_eq!(s, before);
             }
         }
+    }
+
+    /// Drucker–Prager: the limit grows with pressure at 6 sin φ/(3 − sin φ), equals
+    /// 6c cos φ/(3 − sin φ) at p = 0, and is zero below the tension cutoff (failed).
+    #[test]
+    fn drucker_prager_limit_follows_the_mohr_coulomb_meridian() {
+        let soil = Strength::drucker_prager(50e6, 10e3, 30.0, 1e3).unwrap();
+        let (sin, cos) = 30f64.to_radians().sin_cos();
+        let at = |p: f64| soil.current_yield(0.0, p);
+        assert!((at(0.0) - 6.0 * 10e3 * cos / (3.0 - sin)).abs() < 1e-6);
+        assert!(((at(2e5) - at(1e5)) / 1e5 - 6.0 * sin / (3.0 - sin)).abs() < 1e-12);
+        assert_eq!(at(-2e3), 0.0);
+        assert!(soil.failed_in_tension(-2e3) && !soil.failed_in_tension(-0.5e3));
+        let mut s = Matrix2::new(1e6, 0.0, 0.0, -1e6);
+        soil.return_map(&mut s, 0.0, -2e3);
+        assert_eq!(s, Matrix2::zeros());
+        let mut s = Matrix2::new(1e6, 0.0, 0.0, -1e6);
+        soil.return_map(&mut s, 0.0, 1e5);
+        assert!((von_mises(&s) / at(1e5) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_soil_parameters_are_rejected_by_name() {
+        let err = |r: Result<Strength, SolverError>| r.unwrap_err().to_string();
+        assert!(err(Strength::drucker_prager(1e6, -1.0, 30.0, 0.0)).contains("cohesion"));
+        assert!(err(Strength::drucker_prager(1e6, 1e3, 75.0, 0.0)).contains("friction angle"));
+        assert!(err(Strength::drucker_prager(1e6, 1e3, 30.0, 1e4)).contains("tensile strength"));
+        assert!(err(Strength::drucker_prager(1e6, 0.0, 0.0, 0.0)).contains("not both zero"));
     }
 
     #[test]
