@@ -124,11 +124,71 @@ impl<const D: usize> Domain<D> {
         }
     }
 
+    /// Reflects real particles that crossed a wall in the last drift back across it, with their
+    /// normal velocity reversed: a specular bounce, which is what a frictionless wall or a
+    /// symmetry plane does (the mirror images usually keep particles off the wall; a particle
+    /// sliding along it in plastic flow can still cross by a hair). Returns the impulse the
+    /// walls gave, Σ 2 m |v_n|, so that momentum stays accounted for.
+    pub fn reflect_at_walls(&self, particles: &mut Particles<D>) -> Vector<D> {
+        let mut impulse = Vector::<D>::zeros();
+        for i in 0..particles.n_real() {
+            for a in 0..D {
+                let x = particles.position[i][a];
+                // the wall crossed, and the sign of its inward normal
+                let crossed = if self.lower[a] == Boundary::Wall && x < self.lo[a] {
+                    Some((self.lo[a], 1.0))
+                } else if self.upper[a] == Boundary::Wall && x > self.hi[a] {
+                    Some((self.hi[a], -1.0))
+                } else {
+                    None
+                };
+                if let Some((wall, inward)) = crossed {
+                    particles.position[i][a] = 2.0 * wall - x;
+                    let v = particles.velocity[i][a];
+                    particles.velocity[i][a] = -v;
+                    impulse[a] += inward * 2.0 * particles.mass[i] * v.abs();
+                }
+            }
+        }
+        impulse
+    }
+
     /// The axis of a wall that `x` has passed through, if any.
     pub fn outside_wall(&self, x: &Vector<D>) -> Option<usize> {
         (0..D).find(|&a| {
             (self.lower[a] == Boundary::Wall && x[a] < self.lo[a])
                 || (self.upper[a] == Boundary::Wall && x[a] > self.hi[a])
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::particles::{OptionalFields, ParticleInit};
+
+    /// A particle that crossed the lower wall comes back mirrored with its normal velocity
+    /// reversed, and the wall books the impulse 2 m |v_n| along its inward normal.
+    #[test]
+    fn a_particle_through_a_wall_bounces_back_and_the_wall_takes_the_impulse() {
+        let init = [ParticleInit {
+            position: Vector::<2>::new(-0.01, 0.5),
+            velocity: Vector::<2>::new(-2.0, 1.0),
+            mass: 3.0,
+            smoothing_length: 0.1,
+            density: 1.0,
+            internal_energy: 1.0,
+            material: 0,
+        }];
+        let mut p = Particles::new(&init, OptionalFields::default());
+        let domain = Domain::new(
+            Vector::<2>::zeros(),
+            Vector::<2>::repeat(1.0),
+            [Boundary::Wall; 2],
+        );
+        let impulse = domain.reflect_at_walls(&mut p);
+        assert_eq!(p.position[0], Vector::<2>::new(0.01, 0.5));
+        assert_eq!(p.velocity[0], Vector::<2>::new(2.0, 1.0));
+        assert_eq!(impulse, Vector::<2>::new(12.0, 0.0));
     }
 }

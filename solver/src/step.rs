@@ -521,6 +521,7 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
+        self.wall_impulse += self.domain.reflect_at_walls(p);
         // the grad-h iteration starts from h + Dh/Dt·Δt (kept within a factor of two)
         for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
             *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);
