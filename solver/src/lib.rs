@@ -27,7 +27,9 @@ pub use eos::{Compaction, EquationOfState, IdealGas, Jwl, Material, MieGruneisen
 pub use error::SolverError;
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
-pub use physics::{ArtificialViscosity, DensityMethod, EnergyEquation, InterfacePenalty};
+pub use physics::{
+    ArtificialStress, ArtificialViscosity, DensityMethod, EnergyEquation, InterfacePenalty,
+};
 pub use radial::Geometry;
 pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
 pub use strength::Strength;

@@ -87,6 +87,56 @@ pub struct ArtificialViscosity {
     /// [`balsara_factor`], which spares shear flow (plastic solids) while shocks keep their
     /// viscosity.
     pub balsara: bool,
+    /// Monaghan's artificial stress against the tensile instability of solids (off when
+    /// `None`).
+    pub artificial_stress: Option<ArtificialStress>,
+}
+
+/// Monaghan's (2000) artificial stress, in the form of Gray, Monaghan & Swift (2001): in the
+/// principal frame of σ = −pI + s, each tensile principal stress σ' > 0 gives
+/// R' = −ε σ'/ρ², rotated back to R; pairs feel m_j (R_i + R_j) f_ij^n ∇_i W_ij with
+/// f_ij = W(r_ij)/W(Δp), Δp the mean particle spacing, which is large only for particles closer
+/// than their spacing: exactly the pairs the instability clumps. The work of these forces is
+/// returned as heat, half to each particle, so energy stays conserved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArtificialStress {
+    /// ε, 0.3 in Gray, Monaghan & Swift's elastic problems.
+    pub epsilon: f64,
+    /// n, 4 there.
+    pub exponent: f64,
+}
+
+impl Default for ArtificialStress {
+    fn default() -> Self {
+        Self {
+            epsilon: 0.3,
+            exponent: 4.0,
+        }
+    }
+}
+
+/// The artificial stress R (in-plane block) of a particle with pressure p, deviatoric stress s
+/// and density ρ: the tensile principal values of σ = −pI + s scaled by −ε/ρ².
+pub fn artificial_stress_of<const D: usize>(
+    pressure: f64,
+    deviatoric: &Tensor<D>,
+    density: f64,
+    epsilon: f64,
+) -> Tensor<D> {
+    let sigma = deviatoric - Tensor::<D>::identity() * pressure;
+    // the symmetric eigen-decomposition, through a dynamic matrix so that one code path
+    // serves D = 1, 2, 3
+    let eigen = nalgebra::DMatrix::from_iterator(D, D, sigma.iter().copied()).symmetric_eigen();
+    let mut r = Tensor::<D>::zeros();
+    for k in 0..D {
+        let principal = eigen.eigenvalues[k];
+        if principal > 0.0 {
+            let axis = eigen.eigenvectors.column(k);
+            let axis = crate::Vector::<D>::from_iterator(axis.iter().copied());
+            r -= axis * axis.transpose() * (epsilon * principal / (density * density));
+        }
+    }
+    r
 }
 
 /// Repulsion between particles of different materials that come closer than their mean
@@ -154,6 +204,7 @@ impl Default for ArtificialViscosity {
             alpha_u: 0.0,
             interface_penalty: None,
             balsara: false,
+            artificial_stress: None,
         }
     }
 }
@@ -695,6 +746,11 @@ struct StressSource<const D: usize> {
     /// s/(Ω ρ²) in the standard form, s/ρ in the volume form (see `pressure_factor`).
     stress_factor: Tensor<D>,
     is_wall: bool,
+    velocity: Vector<D>,
+    /// Monaghan's artificial stress R (zero for fluids and without the option).
+    artificial: Tensor<D>,
+    /// (m/ρ)^(1/D), the particle's spacing.
+    spacing: f64,
 }
 
 /// The deviatoric-stress part of the solid equations, added to the rates `compute_rates` left
@@ -704,7 +760,8 @@ struct StressSource<const D: usize> {
 /// 1/ρ_j in the volume form): the weights that make the work of the stress forces equal the
 /// deviatoric heating, so total energy is conserved. A separate pass, so that fluid scenes carry
 /// no tensors. `velocity_gradient` comes from [`velocity_gradients`]; `shear_modulus[m]` is
-/// material m's G (0 for a fluid). Returns the wall force.
+/// material m's G (0 for a fluid). With `artificial_stress`, Monaghan's term joins (see
+/// [`ArtificialStress`]). Returns the wall force.
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
@@ -712,6 +769,7 @@ pub fn add_stress_rates<const D: usize>(
     pair_kernel: PairKernel,
     velocity_gradient: &[Tensor<D>],
     shear_modulus: &[f64],
+    artificial_stress: Option<ArtificialStress>,
 ) -> Vector<D> {
     let n = particles.n_real();
     let p = &*particles;
@@ -730,8 +788,20 @@ pub fn add_stress_rates<const D: usize>(
                 p.deviatoric_stress[k] / (omega(k) * p.density[k] * p.density[k])
             },
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
+            velocity: p.velocity[k],
+            artificial: match artificial_stress {
+                Some(a) if shear_modulus[p.material_of(k)] > 0.0 => artificial_stress_of(
+                    p.pressure[k],
+                    &p.deviatoric_stress[k],
+                    p.density[k],
+                    a.epsilon,
+                ),
+                _ => Tensor::zeros(),
+            },
+            spacing: (p.mass[k] / p.density[k]).powf(1.0 / D as f64),
         })
         .collect();
+    let exponent = artificial_stress.map_or(0.0, |a| a.exponent);
     let partner = |other: &StressSource<D>| {
         if volume_form {
             1.0 / other.density
@@ -739,11 +809,12 @@ pub fn add_stress_rates<const D: usize>(
             1.0
         }
     };
-    let rates: Vec<(Vector<D>, Vector<D>)> = (0..n)
+    let rates: Vec<(Vector<D>, Vector<D>, f64)> = (0..n)
         .into_par_iter()
         .map(|i| {
             let me = &sources[i];
             let (mut acceleration, mut wall) = (Vector::<D>::zeros(), Vector::<D>::zeros());
+            let mut heating = 0.0;
             for j in neighbours.of(i) {
                 let other = &sources[j];
                 let dx = me.position - other.position;
@@ -762,22 +833,33 @@ pub fn add_stress_rates<const D: usize>(
                         kernel.derivative(r, other.smoothing_length),
                     ),
                 };
-                let force = (me.stress_factor * (partner(other) * dw_i)
+                let mut force = (me.stress_factor * (partner(other) * dw_i)
                     + other.stress_factor * (partner(me) * dw_j))
                     * (dx / r)
                     * other.mass;
+                if artificial_stress.is_some() {
+                    let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+                    let f =
+                        kernel.value(r, h) / kernel.value(0.5 * (me.spacing + other.spacing), h);
+                    let repulsion = (me.artificial + other.artificial)
+                        * (dx * (f.powf(exponent) * 0.5 * (dw_i + dw_j) / r))
+                        * other.mass;
+                    force += repulsion;
+                    heating -= 0.5 * repulsion.dot(&(me.velocity - other.velocity));
+                }
                 acceleration += force;
                 if other.is_wall {
                     wall += force * me.mass;
                 }
             }
-            (acceleration, wall)
+            (acceleration, wall, heating)
         })
         .collect();
     let p = particles;
     let mut wall_force = Vector::zeros();
-    for (i, (acceleration, wall)) in rates.into_iter().enumerate() {
+    for (i, (acceleration, wall, heating)) in rates.into_iter().enumerate() {
         p.acceleration[i] += acceleration;
+        p.energy_rate[i] += heating;
         let s = p.deviatoric_stress[i];
         let gradient = &velocity_gradient[i];
         let strain_rate = 0.5 * (gradient + gradient.transpose());

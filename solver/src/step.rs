@@ -689,6 +689,7 @@ impl<const D: usize> Simulation<D> {
                     pair_kernel,
                     gradients,
                     &shear_modulus,
+                    self.config.viscosity.artificial_stress,
                 );
             }
         }

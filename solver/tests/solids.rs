@@ -146,3 +146,73 @@ fn balsara_switch_tells_compression_from_shear() {
     assert!(balsara_factor(&shear, 1.0, 1.0) < 1e-3);
     assert!(balsara_factor(&rotation, 1.0, 1.0) < 1e-3);
 }
+
+/// The tensile instability and Monaghan's artificial stress: an elastic body in uniform
+/// tension (5 % under its reference density, p ≈ −7 GPa) on a lattice jittered by 1e-3 of a
+/// spacing, for 300 sound crossings of a spacing. Without the artificial stress particles pair
+/// up (measured: closest pair 0.65 spacing); with it (ε = 0.3, n = 4) the lattice holds
+/// (0.997).
+#[test]
+fn artificial_stress_stops_the_tensile_instability() {
+    use blastsph_solver::ArtificialStress;
+    let closest_pair_after = |artificial_stress: Option<ArtificialStress>| {
+        let n = 20;
+        let dx = 0.01 / n as f64;
+        let (g, k) = Strength::elastic_moduli(117e9, 0.35).unwrap();
+        let eos =
+            MieGruneisen::linear(8930.0, (k / 8930.0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY).unwrap();
+        let solid =
+            Material::new("copper", eos).with_strength(Strength::new(g, 1e12, 0.0).unwrap());
+        let rho = 0.95 * 8930.0;
+        let init: Vec<ParticleInit<2>> = (0..n * n)
+            .map(|k| ParticleInit {
+                position: Vector::<2>::new(
+                    ((k % n) as f64 + 0.5 + 1e-3 * noise(k, 5)) * dx,
+                    ((k / n) as f64 + 0.5 + 1e-3 * noise(k, 6)) * dx,
+                ),
+                velocity: Vector::<2>::zeros(),
+                mass: rho * dx * dx,
+                smoothing_length: 1.2 * dx,
+                density: rho,
+                internal_energy: 0.0,
+                material: 0,
+            })
+            .collect();
+        let config = SimulationConfig {
+            density: DensityMethod::Continuity,
+            smoothing: SmoothingLength::Fixed,
+            viscosity: ArtificialViscosity {
+                artificial_stress,
+                ..ArtificialViscosity::default()
+            },
+            ..SimulationConfig::default()
+        };
+        let domain = Domain::new(
+            Vector::<2>::zeros(),
+            Vector::<2>::repeat(0.01),
+            [Boundary::Periodic; 2],
+        );
+        let mut sim = Simulation::new(&init, vec![solid], domain, config).unwrap();
+        // about 300 sound crossings of a particle spacing
+        sim.run_until(300.0 * dx / 4586.0, |_| {}).unwrap();
+        let p = sim.particles();
+        let mut closest = f64::INFINITY;
+        for i in 0..p.n_real() {
+            for j in 0..i {
+                let mut d = p.position[i] - p.position[j];
+                for a in 0..2 {
+                    d[a] -= 0.01 * (d[a] / 0.01).round();
+                }
+                closest = closest.min(d.norm());
+            }
+        }
+        closest / dx
+    };
+    let without = closest_pair_after(None);
+    let with = closest_pair_after(Some(ArtificialStress::default()));
+    assert!(
+        without < 0.8,
+        "no clumping without artificial stress: {without}"
+    );
+    assert!(with > 0.95, "clumping with artificial stress: {with}");
+}
