@@ -7,6 +7,7 @@ mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
 mod shock_tube;
+mod taylor_bar;
 mod tnt_slab;
 
 use crate::params::{ParamSpec, Params};
@@ -30,6 +31,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(density_ratio_tube::info());
     list.push(tnt_slab::info());
     list.push(elastic_wave::info());
+    list.push(taylor_bar::info());
     list
 }
 
@@ -60,6 +62,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if name == taylor_bar::NAME {
+        taylor_bar::run(&params, level, progress)?
     } else if name == elastic_wave::NAME {
         elastic_wave::run(&params, progress)?
     } else if name == tnt_slab::NAME {
