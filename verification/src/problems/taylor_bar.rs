@@ -50,6 +50,11 @@ pub fn info() -> super::ProblemInfo {
             ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
             ParamSpec::new("beta", 2.0, "artificial viscosity β"),
             ParamSpec::new(
+                "artificial_stress",
+                0.0,
+                "Monaghan's artificial stress ε (n = 4; 0: off)",
+            ),
+            ParamSpec::new(
                 "balsara",
                 "on",
                 "Balsara's switch on the viscosity: on or off",
@@ -223,6 +228,13 @@ pub fn run(
         alpha: params.number("alpha", 0.0, 10.0)?,
         beta: params.number("beta", 0.0, 10.0)?,
         balsara: params.choice("balsara", &[true, false], |on| if on { "on" } else { "off" })?,
+        artificial_stress: match params.number("artificial_stress", 0.0, 2.0)? {
+            0.0 => None,
+            epsilon => Some(blastsph_solver::ArtificialStress {
+                epsilon,
+                exponent: 4.0,
+            }),
+        },
         ..ArtificialViscosity::default()
     };
     let mut measured = Vec::new();
