@@ -215,3 +215,19 @@ fn elastic_wave_passes_its_quick_checks() {
             .is_some_and(|c| c.limit == 0.01));
     }
 }
+
+/// The copper Taylor bar (quarter model) at quick level: final length within 4 % of 21.42 mm
+/// and footprint radius within 8 % of 7.12 mm at the finest quick resolution, kinetic +
+/// internal energy within 2 % of the impact energy, no particle outside its yield surface.
+#[test]
+fn taylor_bar_3d_passes_its_quick_checks() {
+    let out = run("taylor-bar-3d", &[]);
+    assert_all_checks_pass(&out);
+    let r = &out.record;
+    assert!(r
+        .check("final_length_relative")
+        .is_some_and(|c| c.limit == 0.04));
+    assert!(r
+        .check("footprint_radius_relative")
+        .is_some_and(|c| c.limit == 0.08));
+}
