@@ -50,6 +50,11 @@ enum Command {
         /// List the problems and their parameters, then exit.
         #[arg(long)]
         list: bool,
+        /// Also write <problem>.vtu: the particles at the end of the finest run (position,
+        /// velocity, density, pressure, energy, material; for solids von Mises stress, plastic
+        /// strain, plastic work and status 0 elastic / 1 plastic / 2 failed), for ParaView.
+        #[arg(long)]
+        vtk: bool,
     },
     /// The exact Sedov–Taylor blast: shock radius, post-shock state, similarity constant.
     Sedov {
@@ -124,12 +129,13 @@ fn main() -> ExitCode {
             threads,
             set,
             list,
+            vtk,
         } => {
             if list {
                 print_problem_list();
                 return ExitCode::SUCCESS;
             }
-            verify(problems, level, out, threads, set)
+            verify(problems, level, out, threads, set, vtk)
         }
         Command::Sedov {
             geometry,
@@ -191,6 +197,7 @@ fn verify(
     out: PathBuf,
     threads: Option<usize>,
     set: Vec<String>,
+    vtk: bool,
 ) -> Result<bool, VerifyError> {
     let level = match level {
         LevelArg::Quick => Level::Quick,
@@ -242,6 +249,9 @@ fn verify(
         })?;
         bar.finish_and_clear();
         report::write_outputs(&out, &output)?;
+        if vtk {
+            report::write_snapshot(&out, &output)?;
+        }
         let r = &output.record;
         let finest = r.headline();
         let errors = finest

@@ -15,6 +15,7 @@ pub mod report;
 pub mod riemann;
 pub mod sedov;
 pub mod svg;
+pub mod vtk;
 
 use thiserror::Error;
 

@@ -132,4 +132,7 @@ pub struct ProblemOutput {
     pub record: Record,
     pub profile: Table,
     pub figure: Figure,
+    /// The particles at the end of the finest run, for `--vtk`; None where the problem runs no
+    /// simulation.
+    pub snapshot: Option<crate::vtk::Snapshot>,
 }

@@ -69,6 +69,21 @@ pub fn write_outputs(dir: &Path, output: &ProblemOutput) -> Result<Vec<PathBuf>,
     write_files(dir, files)
 }
 
+/// `<problem>.vtu`: the particles at the end of the finest run (for ParaView), where the
+/// problem ran a simulation. Written atomically like the other outputs.
+pub fn write_snapshot(dir: &Path, output: &ProblemOutput) -> Result<Option<PathBuf>, VerifyError> {
+    let Some(snapshot) = &output.snapshot else {
+        return Ok(None);
+    };
+    std::fs::create_dir_all(dir).map_err(|source| VerifyError::Io {
+        path: dir.display().to_string(),
+        source,
+    })?;
+    let name = format!("{}.vtu", output.record.problem);
+    let mut written = write_files(dir, [(name, snapshot.to_vtu().into_bytes())])?;
+    Ok(written.pop())
+}
+
 /// The errors a work–precision plot shows, the first a run has: the L1 density error (shock
 /// tubes, Sedov, the water–air tube), the L1 velocity error over the impact speed (interface
 /// problems), the L1 pressure error over p_CJ (detonation).

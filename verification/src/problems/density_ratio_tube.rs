@@ -22,6 +22,7 @@ use crate::norms::{l1_error, observed_order};
 use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
@@ -135,7 +136,7 @@ fn run_one(
     s: &Settings,
     n: usize,
     progress: &(dyn Fn(f64) + Sync),
-) -> Result<(Run, Vec<Sample>), VerifyError> {
+) -> Result<(Run, Vec<Sample>, Option<Snapshot>), VerifyError> {
     let dx = 1.0 / n as f64;
     let n_left = (X0 / dx).round() as usize;
     let init: Vec<ParticleInit<1>> = (0..n)
@@ -184,7 +185,7 @@ fn run_one(
         Ok(sim) => sim,
         Err(refused) => {
             run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok((run, Vec::new()));
+            return Ok((run, Vec::new(), None));
         }
     };
     let energy0 = sim.particles().total_energy();
@@ -194,7 +195,7 @@ fn run_one(
     run.phase_s = phase_seconds(&sim.phase_times());
     if let Err(e) = outcome {
         run.failure = Some(e.to_string());
-        return Ok((run, Vec::new()));
+        return Ok((run, Vec::new(), None));
     }
     let p = sim.particles();
     let mut samples: Vec<Sample> = (0..p.n_real())
@@ -267,7 +268,7 @@ fn run_one(
         run.errors
             .insert(key.into(), l1_error(&numerical, &exact, &volume));
     }
-    Ok((run, samples))
+    Ok((run, samples, Some(Snapshot::of(&sim))))
 }
 
 pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOutput, VerifyError> {
@@ -275,11 +276,13 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
     let resolutions = params.integers("n", 20, 1_000_000)?;
     let mut runs = Vec::new();
     let mut finest_profile = Vec::new();
+    let mut snapshot = None;
     for (k, &n) in resolutions.iter().enumerate() {
         let part = |f: f64| progress((k as f64 + f) / resolutions.len() as f64);
-        let (run, samples) = run_one(&s, n, &part)?;
+        let (run, samples, last) = run_one(&s, n, &part)?;
         if !samples.is_empty() {
             finest_profile = samples;
+            snapshot = last;
         }
         runs.push(run);
     }
@@ -334,6 +337,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         },
         profile,
         figure,
+        snapshot,
     })
 }
 

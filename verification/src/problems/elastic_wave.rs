@@ -13,6 +13,7 @@ use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
@@ -118,6 +119,9 @@ fn peak(samples: &[(f64, f64)]) -> (f64, f64) {
     (x.clamp(x0, x2), y.max(y1))
 }
 
+/// One run: its record, the final velocity profile (x, u) and the particles.
+type PulseRun = (Run, Vec<(f64, f64)>, Option<Snapshot>);
+
 /// Velocity along x against x, averaged over the particles of each column (2D) and sorted.
 fn profile<const D: usize>(sim: &Simulation<D>) -> Vec<(f64, f64)> {
     let p = sim.particles();
@@ -144,7 +148,7 @@ fn run_one<const D: usize>(
     s: &Settings,
     n: usize,
     progress: &(dyn Fn(f64) + Sync),
-) -> Result<(Run, Vec<(f64, f64)>), VerifyError> {
+) -> Result<PulseRun, VerifyError> {
     let library = Library::standard();
     let dx = LENGTH / n as f64;
     let rows = if D == 1 { 1 } else { STRIP_ROWS };
@@ -203,7 +207,7 @@ fn run_one<const D: usize>(
             Ok(sim) => sim,
             Err(refused) => {
                 run.failure = Some(VerifyError::from_scene(refused)?);
-                return Ok((run, Vec::new()));
+                return Ok((run, Vec::new(), None));
             }
         };
     let energy0 = sim.particles().total_energy();
@@ -218,7 +222,7 @@ fn run_one<const D: usize>(
     run.phase_s = phase_seconds(&sim.phase_times());
     if let Err(e) = outcome {
         run.failure = Some(e.to_string());
-        return Ok((run, Vec::new()));
+        return Ok((run, Vec::new(), None));
     }
     let samples = profile(&sim);
     let last = peak(&samples);
@@ -244,7 +248,7 @@ fn run_one<const D: usize>(
         "wave_speed_relative".into(),
         (speed / s.p_wave_speed - 1.0).abs(),
     );
-    Ok((run, samples))
+    Ok((run, samples, Some(Snapshot::of(&sim))))
 }
 
 pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOutput, VerifyError> {
@@ -253,13 +257,16 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
     let total = 2 * resolutions.len();
     let mut runs = Vec::new();
     let mut profiles = Vec::new();
+    // the finest 2D run's particles
+    let mut snapshot = None;
     for (k, &n) in resolutions.iter().enumerate() {
         let part = |f: f64| progress(((2 * k) as f64 + f) / total as f64);
-        let (run, samples) = run_one::<1>(&s, n, &part)?;
+        let (run, samples, _) = run_one::<1>(&s, n, &part)?;
         runs.push(run);
         profiles.push(("1D", n, samples));
         let part = |f: f64| progress(((2 * k + 1) as f64 + f) / total as f64);
-        let (run, samples) = run_one::<2>(&s, n, &part)?;
+        let (run, samples, last) = run_one::<2>(&s, n, &part)?;
+        snapshot = last;
         runs.push(run);
         profiles.push(("2D", n, samples));
     }
@@ -377,5 +384,6 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         },
         profile: table,
         figure,
+        snapshot,
     })
 }

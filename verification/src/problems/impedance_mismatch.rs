@@ -22,6 +22,7 @@ use crate::norms::{l1_error, observed_order};
 use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
@@ -261,6 +262,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
 /// What one resolution measured.
 struct Measured {
     run: Run,
+    snapshot: Option<Snapshot>,
     /// Final (x, ρ, u, p, material) sorted by x.
     profile: Vec<Sample>,
     reflected: Option<WaveKind>,
@@ -373,6 +375,7 @@ fn run_one(
             run.failure = Some(VerifyError::from_scene(refused)?);
             return Ok(Measured {
                 run,
+                snapshot: None,
                 profile: Vec::new(),
                 reflected: None,
             });
@@ -392,6 +395,7 @@ fn run_one(
         run.failure = Some(e.to_string());
         return Ok(Measured {
             run,
+            snapshot: None,
             profile: Vec::new(),
             reflected: None,
         });
@@ -510,6 +514,7 @@ fn run_one(
     );
     Ok(Measured {
         run,
+        snapshot: Some(Snapshot::of(&sim)),
         profile: end,
         reflected,
     })
@@ -616,6 +621,7 @@ pub fn run(
         },
         profile,
         figure,
+        snapshot: measured[finest].snapshot.clone(),
     })
 }
 

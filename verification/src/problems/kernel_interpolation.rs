@@ -234,6 +234,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             title: "kernel interpolation on X = {1, ..., 8}".into(),
             panels,
         },
+        snapshot: None,
     })
 }
 

@@ -20,6 +20,7 @@ use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::sedov::SedovBlast;
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::step::ETA_RANGE;
@@ -209,6 +210,7 @@ struct FinalState {
     radial_velocity: Vec<f64>,
     pressure: Vec<f64>,
     volume: Vec<f64>,
+    snapshot: Snapshot,
 }
 
 struct BlastRun {
@@ -337,6 +339,7 @@ fn run_blast<const D: usize>(
         volume: (0..n_real).map(|i| p.mass[i] / p.density[i]).collect(),
         density: p.density[..n_real].to_vec(),
         radius,
+        snapshot: Snapshot::of(&sim),
     };
     measure(s, &state, &mut run);
     Ok(BlastRun {
@@ -573,6 +576,7 @@ pub fn run(
         .rev()
         .find_map(|(_, b)| b.state.as_ref());
     let (profile, figure) = profile_outputs(&base, finest_state);
+    let snapshot = finest_state.map(|s| s.snapshot.clone());
     Ok(ProblemOutput {
         record: Record {
             problem: name.into(),
@@ -588,6 +592,7 @@ pub fn run(
         },
         profile,
         figure,
+        snapshot,
     })
 }
 

@@ -14,6 +14,7 @@ use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::riemann::{self, GasState, RiemannSolution};
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::step::ETA_RANGE;
@@ -202,6 +203,7 @@ struct Profile {
 struct TubeRun {
     run: Run,
     profile: Option<Profile>,
+    snapshot: Option<Snapshot>,
 }
 
 /// Initial particles and domain for `n_left` particles in the left state.
@@ -327,7 +329,11 @@ fn run_tube(
                 phase_s: BTreeMap::new(),
                 failure: Some(diagnosis),
             };
-            return Ok(TubeRun { run, profile: None });
+            return Ok(TubeRun {
+                run,
+                profile: None,
+                snapshot: None,
+            });
         }
     };
     let (mass0, momentum0, energy0) = {
@@ -393,7 +399,11 @@ fn run_tube(
     };
     if let Err(e) = outcome {
         run.failure = Some(e.to_string());
-        return Ok(TubeRun { run, profile: None });
+        return Ok(TubeRun {
+            run,
+            profile: None,
+            snapshot: None,
+        });
     }
     let mut order: Vec<usize> = (0..n)
         .filter(|&i| (0.0..=1.0).contains(&p.position[i][0]))
@@ -441,6 +451,7 @@ fn run_tube(
     Ok(TubeRun {
         run,
         profile: Some(profile),
+        snapshot: Some(Snapshot::of(&sim)),
     })
 }
 
@@ -592,6 +603,7 @@ pub fn run(
         },
         profile,
         figure,
+        snapshot: tubes.iter().rev().find_map(|t| t.snapshot.clone()),
     })
 }
 

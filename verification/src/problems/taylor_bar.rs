@@ -17,6 +17,7 @@ use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::{full_contraction, von_mises};
@@ -72,6 +73,7 @@ pub fn info() -> super::ProblemInfo {
 
 struct Measured {
     run: Run,
+    snapshot: Option<Snapshot>,
     /// Final particle positions (x, y, z) and plastic strain, for the figure.
     particles: Vec<(f64, f64, f64, f64)>,
 }
@@ -142,6 +144,7 @@ fn run_one(
             run.failure = Some(VerifyError::from_scene(refused)?);
             return Ok(Measured {
                 run,
+                snapshot: None,
                 particles: Vec::new(),
             });
         }
@@ -154,6 +157,7 @@ fn run_one(
         run.failure = Some(e.to_string());
         return Ok(Measured {
             run,
+            snapshot: None,
             particles: Vec::new(),
         });
     }
@@ -216,7 +220,11 @@ fn run_one(
             (x[0], x[1], x[2], p.plastic_strain[i])
         })
         .collect();
-    Ok(Measured { run, particles })
+    Ok(Measured {
+        run,
+        snapshot: Some(Snapshot::of(&sim)),
+        particles,
+    })
 }
 
 pub fn run(
@@ -349,5 +357,6 @@ pub fn run(
         },
         profile: table,
         figure,
+        snapshot: measured[finest].snapshot.clone(),
     })
 }

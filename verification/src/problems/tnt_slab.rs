@@ -23,6 +23,7 @@ use crate::norms::{l1_error, observed_order};
 use crate::params::{ParamSpec, Params};
 use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
@@ -208,6 +209,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
 
 struct Measured {
     run: Run,
+    snapshot: Option<Snapshot>,
     /// The profile at the second look, inside the charge.
     profile: Vec<Sample>,
     /// The profile at the end, in the air.
@@ -271,6 +273,7 @@ fn run_one(
     };
     let empty = |run: Run| Measured {
         run,
+        snapshot: None,
         profile: Vec::new(),
         end: Vec::new(),
     };
@@ -349,7 +352,12 @@ fn run_one(
     );
     let end = looks.pop().expect("three looks");
     let profile = looks.pop().expect("three looks");
-    Ok(Measured { run, profile, end })
+    Ok(Measured {
+        run,
+        snapshot: Some(Snapshot::of(&sim)),
+        profile,
+        end,
+    })
 }
 
 pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOutput, VerifyError> {
@@ -432,6 +440,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         },
         profile,
         figure,
+        snapshot: measured[finest].snapshot.clone(),
     })
 }
 
