@@ -32,7 +32,7 @@ pub use physics::{
 };
 pub use radial::Geometry;
 pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
-pub use strength::Strength;
+pub use strength::{JohnsonCook, Strength, YieldState};
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

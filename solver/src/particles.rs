@@ -52,6 +52,8 @@ pub struct Particles<const D: usize> {
     pub stress_rate: Vec<Tensor<D>>,
     pub plastic_strain: Vec<f64>,
     pub plastic_work: Vec<f64>,
+    /// The equivalent strain rate √(2/3 ė':ė') of the last force evaluation (solids).
+    pub strain_rate: Vec<f64>,
     /// Programmed burn: each particle's lighting time (−∞ where it is not explosive) and burn
     /// fraction F (its pressure is F·p_EOS); empty without a burn.
     pub lighting_time: Vec<f64>,
@@ -156,6 +158,11 @@ impl<const D: usize> Particles<D> {
             } else {
                 Vec::new()
             },
+            strain_rate: if optional.stress {
+                vec![0.0; n]
+            } else {
+                Vec::new()
+            },
             lighting_time: Vec::new(),
             burn_fraction: Vec::new(),
             signal_speed: vec![0.0; n],
@@ -188,6 +195,17 @@ impl<const D: usize> Particles<D> {
     #[inline]
     pub fn peak_density_of(&self, i: usize) -> f64 {
         self.peak_density.get(i).copied().unwrap_or(self.density[i])
+    }
+
+    /// What real solid particle i's yield limit depends on: plastic strain, the pressure and
+    /// strain rate of the last force evaluation, and plastic work.
+    pub fn yield_state(&self, i: usize) -> crate::strength::YieldState {
+        crate::strength::YieldState {
+            plastic_strain: self.plastic_strain[i],
+            pressure: self.pressure[i],
+            strain_rate: self.strain_rate[i],
+            plastic_work: self.plastic_work[i],
+        }
     }
 
     /// The real particle that index `i` is, or stands for.
@@ -307,6 +325,7 @@ impl<const D: usize> Particles<D> {
         apply(&mut self.stress_rate, order);
         apply(&mut self.plastic_strain, order);
         apply(&mut self.plastic_work, order);
+        apply(&mut self.strain_rate, order);
         apply(&mut self.lighting_time, order);
         apply(&mut self.burn_fraction, order);
     }

@@ -864,6 +864,10 @@ pub fn add_stress_rates<const D: usize>(
         let gradient = &velocity_gradient[i];
         let strain_rate = 0.5 * (gradient + gradient.transpose());
         p.energy_rate[i] += s.component_mul(&strain_rate).sum() / p.density[i];
+        // √(2/3 ė':ė') with the deviatoric rate's out-of-plane normals −tr/3 each
+        let deviatoric = strain_rate - Tensor::<D>::identity() * (strain_rate.trace() / 3.0);
+        let out_of_plane = (3 - D) as f64 * (strain_rate.trace() / 3.0).powi(2);
+        p.strain_rate[i] = (2.0 / 3.0 * (deviatoric.norm_squared() + out_of_plane)).sqrt();
         let g = shear_modulus[p.material_of(i)];
         p.stress_rate[i] = if g > 0.0 {
             crate::strength::jaumann_rate(g, &s, gradient)

@@ -21,6 +21,7 @@ use crate::physics::{
     self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, SmoothingSolution,
 };
 use crate::radial::{self, Geometry, RadialKernel};
+use crate::strength::YieldState;
 use crate::{Tensor, Vector};
 use std::time::Instant;
 
@@ -491,15 +492,16 @@ impl<const D: usize> Simulation<D> {
         let p = &mut self.particles;
         for i in 0..p.plastic_strain.len() {
             if let Some(strength) = &self.materials[p.material_of(i)].strength {
-                // the pressure of the last force evaluation (Drucker–Prager's limit rises with it)
-                let pressure = p.pressure[i];
-                let increment =
-                    strength.return_map(&mut p.deviatoric_stress[i], p.plastic_strain[i], pressure);
+                // the pressure and strain rate of the last force evaluation
+                let state = p.yield_state(i);
+                let increment = strength.return_map(&mut p.deviatoric_stress[i], &state);
                 if increment > 0.0 {
                     p.plastic_strain[i] += increment;
-                    p.plastic_work[i] += strength.current_yield(p.plastic_strain[i], pressure)
-                        * increment
-                        / p.density[i];
+                    let after = YieldState {
+                        plastic_strain: p.plastic_strain[i],
+                        ..state
+                    };
+                    p.plastic_work[i] += strength.current_yield(&after) * increment / p.density[i];
                 }
             }
         }

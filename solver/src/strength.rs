@@ -31,6 +31,54 @@ pub enum YieldSurface {
         friction_angle: f64,
         tensile_strength: f64,
     },
+    /// Johnson & Cook (1983): σ_eq ≤ (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m), with
+    /// ε̇* = max(ε̇_eq/ε̇0, 1) and T* = (T − T0)/(T_melt − T0) clamped to [0, 1], the temperature
+    /// rising from T0 by the fraction χ (Taylor–Quinney) of the plastic work over c_v.
+    JohnsonCook(JohnsonCook),
+}
+
+/// The Johnson–Cook parameters (SI; temperatures in K).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JohnsonCook {
+    pub a: f64,
+    pub b: f64,
+    pub n: f64,
+    pub c: f64,
+    pub m: f64,
+    pub reference_rate: f64,
+    pub room_temperature: f64,
+    pub melt_temperature: f64,
+    pub specific_heat: f64,
+    pub taylor_quinney: f64,
+}
+
+impl JohnsonCook {
+    /// The temperature after plastic work w_p per unit mass.
+    pub fn temperature(&self, plastic_work: f64) -> f64 {
+        self.room_temperature + self.taylor_quinney * plastic_work / self.specific_heat
+    }
+
+    fn flow_stress(&self, state: &YieldState) -> f64 {
+        let hardening = self.a + self.b * state.plastic_strain.max(0.0).powf(self.n);
+        let rate = (state.strain_rate / self.reference_rate).max(1.0);
+        let homologous = ((self.temperature(state.plastic_work) - self.room_temperature)
+            / (self.melt_temperature - self.room_temperature))
+            .clamp(0.0, 1.0);
+        hardening * (1.0 + self.c * rate.ln()) * (1.0 - homologous.powf(self.m))
+    }
+}
+
+/// What a yield limit can depend on, per particle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct YieldState {
+    /// Equivalent plastic strain ε_p.
+    pub plastic_strain: f64,
+    /// Pressure p (Pa).
+    pub pressure: f64,
+    /// Equivalent strain rate √(2/3 ė':ė') (1/s).
+    pub strain_rate: f64,
+    /// Plastic work per unit mass (J/kg).
+    pub plastic_work: f64,
 }
 
 /// Elastic–plastic strength: the shear modulus and the yield surface.
@@ -114,6 +162,44 @@ impl Strength {
         })
     }
 
+    /// Johnson–Cook (see [`YieldSurface::JohnsonCook`]), parameters checked by name.
+    pub fn johnson_cook(shear_modulus: f64, parameters: JohnsonCook) -> Result<Self, SolverError> {
+        positive("shear modulus", shear_modulus)?;
+        let jc = parameters;
+        positive("Johnson-Cook A", jc.a)?;
+        positive("Johnson-Cook n", jc.n)?;
+        positive("Johnson-Cook m", jc.m)?;
+        positive("reference strain rate", jc.reference_rate)?;
+        positive("room temperature", jc.room_temperature)?;
+        positive("specific heat", jc.specific_heat)?;
+        for (field, value) in [("Johnson-Cook B", jc.b), ("Johnson-Cook C", jc.c)] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(SolverError::invalid(field, value, "finite and ≥ 0"));
+            }
+        }
+        if !(jc.melt_temperature > jc.room_temperature && jc.melt_temperature.is_finite()) {
+            return Err(SolverError::invalid(
+                "melt temperature",
+                jc.melt_temperature,
+                &format!(
+                    "finite and above the room temperature {} K",
+                    jc.room_temperature
+                ),
+            ));
+        }
+        if !(0.0..=1.0).contains(&jc.taylor_quinney) {
+            return Err(SolverError::invalid(
+                "Taylor-Quinney coefficient",
+                jc.taylor_quinney,
+                "0 ≤ χ ≤ 1",
+            ));
+        }
+        Ok(Self {
+            shear_modulus,
+            surface: YieldSurface::JohnsonCook(jc),
+        })
+    }
+
     /// The shear modulus G = E/(2(1 + ν)) and bulk modulus K = E/(3(1 − 2ν)) of Young's
     /// modulus E and Poisson's ratio ν ∈ (−1, 0.5).
     pub fn elastic_moduli(young: f64, poisson: f64) -> Result<(f64, f64), SolverError> {
@@ -137,13 +223,15 @@ impl Strength {
         ))
     }
 
-    /// The limit on σ_eq after equivalent plastic strain ε_p at pressure p.
-    pub fn current_yield(&self, plastic_strain: f64, pressure: f64) -> f64 {
+    /// The limit on σ_eq in the particle's state.
+    pub fn current_yield(&self, state: &YieldState) -> f64 {
+        let pressure = state.pressure;
         match self.surface {
             YieldSurface::VonMises {
                 yield_stress,
                 hardening_modulus,
-            } => yield_stress + hardening_modulus * plastic_strain,
+            } => yield_stress + hardening_modulus * state.plastic_strain,
+            YieldSurface::JohnsonCook(jc) => jc.flow_stress(state),
             YieldSurface::DruckerPrager {
                 cohesion,
                 friction_angle,
@@ -158,13 +246,15 @@ impl Strength {
         }
     }
 
-    /// The hardening modulus dY/dε_p (0 for Drucker–Prager).
+    /// The hardening modulus dY/dε_p the return uses: H for von Mises; 0 for Drucker–Prager
+    /// and Johnson–Cook (whose limit is taken at the start of the step: first order in the
+    /// plastic-strain increment).
     fn hardening(&self) -> f64 {
         match self.surface {
             YieldSurface::VonMises {
                 hardening_modulus, ..
             } => hardening_modulus,
-            YieldSurface::DruckerPrager { .. } => 0.0,
+            YieldSurface::DruckerPrager { .. } | YieldSurface::JohnsonCook(_) => 0.0,
         }
     }
 
@@ -174,17 +264,16 @@ impl Strength {
             if pressure < -tensile_strength)
     }
 
-    /// Radial return of `s` onto the yield surface at pressure p (the deviator is scaled at fixed
+    /// Radial return of `s` onto the yield surface in `state` (the deviator is scaled at fixed
     /// p, Wilkins' scheme; for Drucker–Prager a non-associated return). Returns the increment
     /// of equivalent plastic strain (0 where the state is elastic).
     pub fn return_map<const D: usize>(
         &self,
         s: &mut SMatrix<f64, D, D>,
-        plastic_strain: f64,
-        pressure: f64,
+        state: &YieldState,
     ) -> f64 {
         let sigma_eq = von_mises(s);
-        let yield_stress = self.current_yield(plastic_strain, pressure);
+        let yield_stress = self.current_yield(state);
         if sigma_eq <= yield_stress {
             return 0.0;
         }
@@ -282,8 +371,9 @@ mod tests {
             let strength = copper();
             let mut s = Matrix2::new(a, c, c, b);
             let before = s;
-            let increment = strength.return_map(&mut s, eps, 0.0);
-            let limit = strength.current_yield(eps + increment, 0.0);
+            let state = |eps: f64| YieldState { plastic_strain: eps, ..YieldState::default() };
+            let increment = strength.return_map(&mut s, &state(eps));
+            let limit = strength.current_yield(&state(eps + increment));
             prop_assert!(von_mises(&s) <= limit * (1.0 + 1e-12));
             if increment > 0.0 {
                 prop_assert!((von_mises(&s) / limit - 1.0).abs() < 1e-12);
@@ -301,17 +391,94 @@ mod tests {
     fn drucker_prager_limit_follows_the_mohr_coulomb_meridian() {
         let soil = Strength::drucker_prager(50e6, 10e3, 30.0, 1e3).unwrap();
         let (sin, cos) = 30f64.to_radians().sin_cos();
-        let at = |p: f64| soil.current_yield(0.0, p);
+        let at = |p: f64| {
+            soil.current_yield(&YieldState {
+                pressure: p,
+                ..YieldState::default()
+            })
+        };
         assert!((at(0.0) - 6.0 * 10e3 * cos / (3.0 - sin)).abs() < 1e-6);
         assert!(((at(2e5) - at(1e5)) / 1e5 - 6.0 * sin / (3.0 - sin)).abs() < 1e-12);
         assert_eq!(at(-2e3), 0.0);
         assert!(soil.failed_in_tension(-2e3) && !soil.failed_in_tension(-0.5e3));
         let mut s = Matrix2::new(1e6, 0.0, 0.0, -1e6);
-        soil.return_map(&mut s, 0.0, -2e3);
+        soil.return_map(
+            &mut s,
+            &YieldState {
+                pressure: -2e3,
+                ..YieldState::default()
+            },
+        );
         assert_eq!(s, Matrix2::zeros());
         let mut s = Matrix2::new(1e6, 0.0, 0.0, -1e6);
-        soil.return_map(&mut s, 0.0, 1e5);
+        soil.return_map(
+            &mut s,
+            &YieldState {
+                pressure: 1e5,
+                ..YieldState::default()
+            },
+        );
         assert!((von_mises(&s) / at(1e5) - 1.0).abs() < 1e-12);
+    }
+
+    /// Numbers of the size of Johnson & Cook's OFHC copper (quoted from memory, not a
+    /// reference: they only exercise the formula, whose factors are checked one at a time).
+    fn copper_jc() -> JohnsonCook {
+        JohnsonCook {
+            a: 90e6,
+            b: 292e6,
+            n: 0.31,
+            c: 0.025,
+            m: 1.09,
+            reference_rate: 1.0,
+            room_temperature: 294.0,
+            melt_temperature: 1356.0,
+            specific_heat: 383.0,
+            taylor_quinney: 0.9,
+        }
+    }
+
+    #[test]
+    fn johnson_cook_factors_act_one_at_a_time() {
+        let jc = copper_jc();
+        let strength = Strength::johnson_cook(46e9, jc).unwrap();
+        let y = |state: YieldState| strength.current_yield(&state);
+        let base = YieldState::default();
+        assert!((y(base) - 90e6).abs() < 1e-6);
+        let strained = YieldState {
+            plastic_strain: 0.5,
+            ..base
+        };
+        assert!((y(strained) - (90e6 + 292e6 * 0.5f64.powf(0.31))).abs() < 1e-3);
+        let fast = YieldState {
+            strain_rate: 1e4,
+            ..base
+        };
+        assert!((y(fast) / 90e6 - (1.0 + 0.025 * 1e4f64.ln())).abs() < 1e-12);
+        // below the reference rate the rate factor stays 1
+        assert_eq!(
+            y(YieldState {
+                strain_rate: 1e-3,
+                ..base
+            }),
+            y(base)
+        );
+        // heating by plastic work: T − T0 = χ w_p / c_v; at the melting point no strength
+        let half_way = (1356.0 - 294.0) / 2.0 * 383.0 / 0.9;
+        let warm = YieldState {
+            plastic_work: half_way,
+            ..base
+        };
+        assert!((y(warm) / 90e6 - (1.0 - 0.5f64.powf(1.09))).abs() < 1e-12);
+        let molten = YieldState {
+            plastic_work: 4.0 * half_way,
+            ..base
+        };
+        assert_eq!(y(molten), 0.0);
+        let mut bad = jc;
+        bad.melt_temperature = 200.0;
+        let err = Strength::johnson_cook(46e9, bad).unwrap_err().to_string();
+        assert!(err.contains("melt temperature"), "{err}");
     }
 
     #[test]

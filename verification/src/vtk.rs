@@ -15,7 +15,7 @@ fn status_code<const D: usize>(sim: &Simulation<D>, i: usize) -> f64 {
     if strength.failed_in_tension(p.pressure[i]) {
         return 2.0;
     }
-    let limit = strength.current_yield(p.plastic_strain[i], p.pressure[i]);
+    let limit = strength.current_yield(&p.yield_state(i));
     if von_mises(&p.deviatoric_stress[i]) >= limit * (1.0 - 1e-9) {
         1.0
     } else {

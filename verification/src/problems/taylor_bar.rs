@@ -184,9 +184,7 @@ fn run_one(
     let max_plastic_strain = p.plastic_strain.iter().cloned().fold(0.0, f64::max);
     let yield_excess = (0..n)
         .map(|i| {
-            von_mises(&p.deviatoric_stress[i])
-                / strength.current_yield(p.plastic_strain[i], p.pressure[i])
-                - 1.0
+            von_mises(&p.deviatoric_stress[i]) / strength.current_yield(&p.yield_state(i)) - 1.0
         })
         .fold(f64::MIN, f64::max);
     let m = &mut run.metrics;
