@@ -4,6 +4,9 @@
 //! zero stress splits into two halves running at the P-wave speed c_P = √((K + 4G/3)/ρ)
 //! (4586 m/s here), the exact answer.
 //!
+//! Beside them a 3D bar with free sides (3 × 3 particles across, open lateral boundaries), whose
+//! pulse should approach the bar speed √(E/ρ) (3620 m/s) as the bar gets slender: reported.
+//!
 //! Measured: the right-going peak (parabola through the fastest particle and its neighbours)
 //! at 50 % and 100 % of the run, giving the wave speed; the peak amplitude against A/2; total
 //! energy (kinetic + internal, which holds the elastic energy) over the run.
@@ -28,6 +31,20 @@ const MATERIAL: &str = "cu-taylor-bar";
 const LENGTH: f64 = 0.1;
 /// Rows of the 2D strip: enough for the kernel's reach across the periodic direction.
 const STRIP_ROWS: usize = 8;
+/// Particles across each side of the square 3D bar: slender against the pulse (3 spacings
+/// against a 10 mm pulse at 200 particles per 0.1 m).
+const BAR_ROWS: usize = 3;
+
+/// The cross-section of a run: particles per lateral axis and the lateral boundary (periodic:
+/// uniaxial strain; open: a bar with free sides).
+#[derive(Clone, Copy)]
+struct Lateral {
+    rows: usize,
+    boundary: Boundary,
+    /// The speed the pulse should run at.
+    reference_speed: f64,
+    formulation: &'static str,
+}
 
 pub fn info() -> super::ProblemInfo {
     super::ProblemInfo {
@@ -69,6 +86,8 @@ struct Settings {
     eta_2d: f64,
     density: f64,
     p_wave_speed: f64,
+    /// √(E/ρ), the long-wave speed in a bar with free sides.
+    bar_speed: f64,
 }
 
 fn settings(params: &Params) -> Result<Settings, VerifyError> {
@@ -95,6 +114,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         eta_2d: params.number("eta_2d", 0.5, 4.0)?,
         density,
         p_wave_speed: ((bulk + 4.0 * shear / 3.0) / density).sqrt(),
+        bar_speed: (value("young") / density).sqrt(),
     })
 }
 
@@ -123,7 +143,7 @@ fn peak(samples: &[(f64, f64)]) -> (f64, f64) {
 type PulseRun = (Run, Vec<(f64, f64)>, Option<Snapshot>);
 
 /// Velocity along x against x, averaged over the particles of each column (2D) and sorted.
-fn profile<const D: usize>(sim: &Simulation<D>) -> Vec<(f64, f64)> {
+fn profile<const D: usize>(sim: &Simulation<D>, per_column: usize) -> Vec<(f64, f64)> {
     let p = sim.particles();
     let mut rows: Vec<(f64, f64)> = (0..p.n_real())
         .map(|i| (p.position[i][0], p.velocity[i][0]))
@@ -132,8 +152,8 @@ fn profile<const D: usize>(sim: &Simulation<D>) -> Vec<(f64, f64)> {
     if D == 1 {
         return rows;
     }
-    // the columns of the strip: consecutive groups of STRIP_ROWS particles
-    rows.chunks(STRIP_ROWS)
+    // the cross-sections: consecutive groups of `per_column` particles along x
+    rows.chunks(per_column)
         .map(|c| {
             let n = c.len() as f64;
             (
@@ -147,18 +167,22 @@ fn profile<const D: usize>(sim: &Simulation<D>) -> Vec<(f64, f64)> {
 fn run_one<const D: usize>(
     s: &Settings,
     n: usize,
+    lateral: Lateral,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<PulseRun, VerifyError> {
     let library = Library::standard();
     let dx = LENGTH / n as f64;
-    let rows = if D == 1 { 1 } else { STRIP_ROWS };
-    let init: Vec<ParticleInit<D>> = (0..n * rows)
+    let rows = if D == 1 { 1 } else { lateral.rows };
+    let per_column = rows.pow(D as u32 - 1);
+    let init: Vec<ParticleInit<D>> = (0..n * per_column)
         .map(|k| {
             let x = ((k % n) as f64 + 0.5) * dx;
             let mut position = Vector::<D>::zeros();
             position[0] = x;
-            if D > 1 {
-                position[1] = ((k / n) as f64 + 0.5) * dx;
+            let mut lateral_index = k / n;
+            for a in 1..D {
+                position[a] = ((lateral_index % rows) as f64 + 0.5) * dx;
+                lateral_index /= rows;
             }
             let mut velocity = Vector::<D>::zeros();
             velocity[0] = s.amplitude * (-((x - 0.5 * LENGTH) / s.width).powi(2)).exp();
@@ -175,7 +199,9 @@ fn run_one<const D: usize>(
         .collect();
     let mut upper = Vector::<D>::repeat(rows as f64 * dx);
     upper[0] = LENGTH;
-    let domain = Domain::new(Vector::<D>::zeros(), upper, [Boundary::Periodic; D]);
+    let mut sides = [lateral.boundary; D];
+    sides[0] = Boundary::Periodic;
+    let domain = Domain::new(Vector::<D>::zeros(), upper, sides);
     let t_end = s.travel / s.p_wave_speed;
     let config = SimulationConfig {
         density: DensityMethod::Continuity,
@@ -188,10 +214,10 @@ fn run_one<const D: usize>(
         min_time_step: 1e-9 * t_end,
         ..SimulationConfig::default()
     };
-    let label = format!("{D}D n = {n}");
+    let label = format!("{} n = {n}", lateral.formulation);
     let mut run = Run {
         label,
-        formulation: format!("{D}D"),
+        formulation: lateral.formulation.to_string(),
         n_particles: init.len(),
         steps: 0,
         wall_s: 0.0,
@@ -213,7 +239,7 @@ fn run_one<const D: usize>(
     let energy0 = sim.particles().total_energy();
     let t_first = 0.5 * t_end;
     let mut outcome = sim.run_until(t_first, |t| progress(t / t_end));
-    let first = peak(&profile(&sim));
+    let first = peak(&profile(&sim, per_column));
     if outcome.is_ok() {
         outcome = sim.run_until(t_end, |t| progress(t / t_end));
     }
@@ -224,12 +250,12 @@ fn run_one<const D: usize>(
         run.failure = Some(e.to_string());
         return Ok((run, Vec::new(), None));
     }
-    let samples = profile(&sim);
+    let samples = profile(&sim, per_column);
     let last = peak(&samples);
     let speed = (last.0 - first.0) / (t_end - t_first);
     let m = &mut run.metrics;
     m.insert("wave_speed".into(), speed);
-    m.insert("p_wave_speed_exact".into(), s.p_wave_speed);
+    m.insert("reference_speed".into(), lateral.reference_speed);
     m.insert(
         "peak_over_half_amplitude".into(),
         last.1 / (0.5 * s.amplitude),
@@ -246,7 +272,7 @@ fn run_one<const D: usize>(
     );
     run.errors.insert(
         "wave_speed_relative".into(),
-        (speed / s.p_wave_speed - 1.0).abs(),
+        (speed / lateral.reference_speed - 1.0).abs(),
     );
     Ok((run, samples, Some(Snapshot::of(&sim))))
 }
@@ -254,25 +280,39 @@ fn run_one<const D: usize>(
 pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOutput, VerifyError> {
     let s = settings(params)?;
     let resolutions = params.integers("n", 20, 100_000)?;
-    let total = 2 * resolutions.len();
+    let total = 3 * resolutions.len();
+    let uniaxial = |formulation| Lateral {
+        rows: STRIP_ROWS,
+        boundary: Boundary::Periodic,
+        reference_speed: s.p_wave_speed,
+        formulation,
+    };
+    let bar = Lateral {
+        rows: BAR_ROWS,
+        boundary: Boundary::Open,
+        reference_speed: s.bar_speed,
+        formulation: "3D bar",
+    };
     let mut runs = Vec::new();
     let mut profiles = Vec::new();
     // the finest 2D run's particles
     let mut snapshot = None;
     for (k, &n) in resolutions.iter().enumerate() {
-        let part = |f: f64| progress(((2 * k) as f64 + f) / total as f64);
-        let (run, samples, _) = run_one::<1>(&s, n, &part)?;
+        let part = |f: f64| progress(((3 * k) as f64 + f) / total as f64);
+        let (run, samples, _) = run_one::<1>(&s, n, uniaxial("1D"), &part)?;
         runs.push(run);
         profiles.push(("1D", n, samples));
-        let part = |f: f64| progress(((2 * k + 1) as f64 + f) / total as f64);
-        let (run, samples, last) = run_one::<2>(&s, n, &part)?;
+        let part = |f: f64| progress(((3 * k + 1) as f64 + f) / total as f64);
+        let (run, samples, last) = run_one::<2>(&s, n, uniaxial("2D"), &part)?;
         snapshot = last;
         runs.push(run);
         profiles.push(("2D", n, samples));
+        let part = |f: f64| progress(((3 * k + 2) as f64 + f) / total as f64);
+        runs.push(run_one::<3>(&s, n, bar, &part)?.0);
     }
     let mut checks = Vec::new();
     let mut order = BTreeMap::new();
-    for dim in ["1D", "2D"] {
+    for dim in ["1D", "2D", "3D bar"] {
         let of_dim: Vec<&Run> = runs.iter().filter(|r| r.formulation == dim).collect();
         for run in &of_dim {
             let label = run.label.replace(' ', "_").replace("_=_", "_");
@@ -296,16 +336,19 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
             .iter()
             .max_by(|a, b| b.spacing.total_cmp(&a.spacing))
             .expect("one run per dimension");
-        // the limit: the P-wave speed within 1 %
-        checks.push(Check::at_most(
-            format!("wave_speed_relative_{dim}"),
-            finest
-                .errors
-                .get("wave_speed_relative")
-                .copied()
-                .unwrap_or(f64::NAN),
-            0.01,
-        ));
+        // the limit: the P-wave speed within 1 % (the bar's approach to √(E/ρ) is
+        // reported, not checked: a bar of finite thickness is dispersive)
+        if dim != "3D bar" {
+            checks.push(Check::at_most(
+                format!("wave_speed_relative_{dim}"),
+                finest
+                    .errors
+                    .get("wave_speed_relative")
+                    .copied()
+                    .unwrap_or(f64::NAN),
+                0.01,
+            ));
+        }
         let spacing: Vec<f64> = of_dim.iter().map(|r| r.spacing).collect();
         let errors: Vec<f64> = of_dim
             .iter()
