@@ -77,6 +77,29 @@ pub struct Record {
     pub headline_run: usize,
 }
 
+impl Run {
+    /// A run not yet started (no steps, errors or metrics yet).
+    pub fn new(
+        label: impl Into<String>,
+        formulation: impl Into<String>,
+        n_particles: usize,
+        spacing: f64,
+    ) -> Self {
+        Self {
+            label: label.into(),
+            formulation: formulation.into(),
+            n_particles,
+            steps: 0,
+            wall_s: 0.0,
+            spacing,
+            errors: BTreeMap::new(),
+            metrics: BTreeMap::new(),
+            phase_s: BTreeMap::new(),
+            failure: None,
+        }
+    }
+}
+
 /// The phase timings of a simulation as a name → seconds map.
 pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f64> {
     [
@@ -91,6 +114,30 @@ pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f6
 }
 
 impl Record {
+    /// The record of one problem's runs; `problems::run` fills in the parameters, the wall time
+    /// and `pass`.
+    pub fn new(
+        problem: &str,
+        level: Level,
+        runs: Vec<Run>,
+        order: BTreeMap<String, f64>,
+        checks: Vec<Check>,
+        headline_run: usize,
+    ) -> Self {
+        Self {
+            problem: problem.to_string(),
+            level,
+            parameters: BTreeMap::new(),
+            overrides: BTreeMap::new(),
+            runs,
+            order,
+            checks,
+            pass: false,
+            wall_s: 0.0,
+            headline_run,
+        }
+    }
+
     /// Sets `pass` from the checks (a record without checks does not pass).
     pub fn settle(&mut self) {
         self.pass = !self.checks.is_empty() && self.checks.iter().all(|c| c.pass);

@@ -168,18 +168,7 @@ fn run_one(
         library.material(&s.names[0])?,
         library.material(&s.names[1])?,
     ];
-    let mut run = Run {
-        label: format!("n = {n}"),
-        formulation: String::new(),
-        n_particles: n,
-        steps: 0,
-        wall_s: 0.0,
-        spacing: dx,
-        errors: BTreeMap::new(),
-        metrics: BTreeMap::new(),
-        phase_s: BTreeMap::new(),
-        failure: None,
-    };
+    let mut run = Run::new(format!("n = {n}"), "", n, dx);
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<1>::new(&init, materials, domain, s.config) {
         Ok(sim) => sim,
@@ -323,18 +312,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         .expect("one resolution at least");
     let (profile, figure) = outputs(&s, &finest_profile);
     Ok(ProblemOutput {
-        record: Record {
-            problem: NAME.into(),
-            level: Level::Quick,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs,
-            order,
-            checks,
-            pass: false,
-            wall_s: 0.0,
-            headline_run: finest,
-        },
+        record: Record::new(NAME, Level::Quick, runs, order, checks, finest),
         profile,
         figure,
         snapshot,

@@ -215,18 +215,7 @@ fn run_one<const D: usize>(
         ..SimulationConfig::default()
     };
     let label = format!("{} n = {n}", lateral.formulation);
-    let mut run = Run {
-        label,
-        formulation: lateral.formulation.to_string(),
-        n_particles: init.len(),
-        steps: 0,
-        wall_s: 0.0,
-        spacing: dx,
-        errors: BTreeMap::new(),
-        metrics: BTreeMap::new(),
-        phase_s: BTreeMap::new(),
-        failure: None,
-    };
+    let mut run = Run::new(label, lateral.formulation, init.len(), dx);
     let start = std::time::Instant::now();
     let mut sim =
         match Simulation::<D>::new(&init, vec![library.material(MATERIAL)?], domain, config) {
@@ -413,18 +402,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         }],
     };
     Ok(ProblemOutput {
-        record: Record {
-            problem: NAME.into(),
-            level: Level::Quick,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs,
-            order,
-            checks,
-            pass: false,
-            wall_s: 0.0,
-            headline_run: headline,
-        },
+        record: Record::new(NAME, Level::Quick, runs, order, checks, headline),
         profile: table,
         figure,
         snapshot,

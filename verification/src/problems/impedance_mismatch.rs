@@ -355,19 +355,7 @@ fn run_one(
     let exact = &s.exact;
     let t_end = exact.end_time(s.lengths[2]);
     let t_mid = exact.t_hit + 0.5 * (t_end - exact.t_hit);
-    let label = format!("{n_per_cm} per cm");
-    let mut run = Run {
-        label: label.clone(),
-        formulation: String::new(),
-        n_particles: init.len(),
-        steps: 0,
-        wall_s: 0.0,
-        spacing: dx,
-        errors: BTreeMap::new(),
-        metrics: BTreeMap::new(),
-        phase_s: BTreeMap::new(),
-        failure: None,
-    };
+    let mut run = Run::new(format!("{n_per_cm} per cm"), "", init.len(), dx);
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<1>::new(&init, materials, domain, s.config) {
         Ok(sim) => sim,
@@ -607,18 +595,7 @@ pub fn run(
     }
     let (profile, figure) = outputs(name, &s, &measured[finest].profile);
     Ok(ProblemOutput {
-        record: Record {
-            problem: name.into(),
-            level: Level::Quick,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs: record_runs,
-            order,
-            checks,
-            pass: false,
-            wall_s: 0.0,
-            headline_run: finest,
-        },
+        record: Record::new(name, Level::Quick, record_runs, order, checks, finest),
         profile,
         figure,
         snapshot: measured[finest].snapshot.clone(),

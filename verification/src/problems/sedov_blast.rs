@@ -578,18 +578,14 @@ pub fn run(
     let (profile, figure) = profile_outputs(&base, finest_state);
     let snapshot = finest_state.map(|s| s.snapshot.clone());
     Ok(ProblemOutput {
-        record: Record {
-            problem: name.into(),
+        record: Record::new(
+            name,
             level,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs: blasts.into_iter().map(|(_, b)| b.run).collect(),
+            blasts.into_iter().map(|(_, b)| b.run).collect(),
             order,
             checks,
-            pass: false,
-            wall_s: 0.0,
             headline_run,
-        },
+        ),
         profile,
         figure,
         snapshot,

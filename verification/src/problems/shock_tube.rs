@@ -589,18 +589,7 @@ pub fn run(
     let profile_source = tubes.iter().rev().find_map(|t| t.profile.as_ref());
     let (profile, figure) = profile_outputs(name, profile_source, &exact, &s);
     Ok(ProblemOutput {
-        record: Record {
-            problem: name.into(),
-            level: Level::Quick,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs,
-            order,
-            checks,
-            pass: false,
-            wall_s: 0.0,
-            headline_run: finest,
-        },
+        record: Record::new(name, Level::Quick, runs, order, checks, finest),
         profile,
         figure,
         snapshot: tubes.iter().rev().find_map(|t| t.snapshot.clone()),

@@ -125,18 +125,7 @@ fn run_one(
     };
     // the quarter's kinetic energy, ×4 for the whole bar
     let kinetic0: f64 = init.iter().map(|p| 0.5 * p.mass * SPEED * SPEED).sum();
-    let mut run = Run {
-        label: format!("n_radius = {n_radius}"),
-        formulation: String::new(),
-        n_particles: init.len(),
-        steps: 0,
-        wall_s: 0.0,
-        spacing: dx,
-        errors: BTreeMap::new(),
-        metrics: BTreeMap::new(),
-        phase_s: BTreeMap::new(),
-        failure: None,
-    };
+    let mut run = Run::new(format!("n_radius = {n_radius}"), "", init.len(), dx);
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<3>::new(&init, vec![material], domain, config) {
         Ok(sim) => sim,
@@ -341,18 +330,7 @@ pub fn run(
         }],
     };
     Ok(ProblemOutput {
-        record: Record {
-            problem: NAME.into(),
-            level,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs,
-            order,
-            checks,
-            pass: false,
-            wall_s: 0.0,
-            headline_run: finest,
-        },
+        record: Record::new(NAME, level, runs, order, checks, finest),
         profile: table,
         figure,
         snapshot: measured[finest].snapshot.clone(),

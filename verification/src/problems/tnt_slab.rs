@@ -259,18 +259,7 @@ fn run_one(
     )?;
     let materials = vec![library.material("tnt")?, library.material("air")?];
     let transit = s.length / s.detonation.speed;
-    let mut run = Run {
-        label: format!("n = {n}"),
-        formulation: String::new(),
-        n_particles: init.len(),
-        steps: 0,
-        wall_s: 0.0,
-        spacing: dx,
-        errors: BTreeMap::new(),
-        metrics: BTreeMap::new(),
-        phase_s: BTreeMap::new(),
-        failure: None,
-    };
+    let mut run = Run::new(format!("n = {n}"), "", init.len(), dx);
     let empty = |run: Run| Measured {
         run,
         snapshot: None,
@@ -426,18 +415,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
     }
     let (profile, figure) = outputs(&s, &measured[finest]);
     Ok(ProblemOutput {
-        record: Record {
-            problem: NAME.into(),
-            level: Level::Quick,
-            parameters: BTreeMap::new(),
-            overrides: BTreeMap::new(),
-            runs,
-            order,
-            checks,
-            pass: false,
-            wall_s: 0.0,
-            headline_run: finest,
-        },
+        record: Record::new(NAME, Level::Quick, runs, order, checks, finest),
         profile,
         figure,
         snapshot: measured[finest].snapshot.clone(),
