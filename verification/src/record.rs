@@ -78,6 +78,18 @@ pub struct Record {
 }
 
 impl Run {
+    /// Records what the simulation cost: wall seconds since `start`, steps and seconds per
+    /// phase.
+    pub fn record_work<const D: usize>(
+        &mut self,
+        sim: &blastsph_solver::Simulation<D>,
+        start: std::time::Instant,
+    ) {
+        self.wall_s = start.elapsed().as_secs_f64();
+        self.steps = sim.steps();
+        self.phase_s = phase_seconds(&sim.phase_times());
+    }
+
     /// A run not yet started (no steps, errors or metrics yet).
     pub fn new(
         label: impl Into<String>,

@@ -17,7 +17,7 @@
 
 use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
-use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
+use crate::record::{Check, ProblemOutput, Record, Run, Table};
 use crate::sedov::SedovBlast;
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
@@ -305,9 +305,7 @@ fn run_blast<const D: usize>(
     };
     let energy0 = sim.particles().total_energy();
     let outcome = sim.run_until(s.exact.time, |t| progress(t / s.exact.time));
-    run.wall_s = start.elapsed().as_secs_f64();
-    run.steps = sim.steps();
-    run.phase_s = phase_seconds(&sim.phase_times());
+    run.record_work(&sim, start);
     let p = sim.particles();
     run.metrics.insert(
         "energy_relative_error".into(),

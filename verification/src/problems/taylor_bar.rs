@@ -15,7 +15,7 @@
 use crate::materials::Library;
 use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
-use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
+use crate::record::{Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -139,9 +139,7 @@ fn run_one(
         }
     };
     let outcome = sim.run_until(t_end, |t| progress(t / t_end));
-    run.wall_s = start.elapsed().as_secs_f64();
-    run.steps = sim.steps();
-    run.phase_s = phase_seconds(&sim.phase_times());
+    run.record_work(&sim, start);
     if let Err(e) = outcome {
         run.failure = Some(e.to_string());
         return Ok(Measured {
