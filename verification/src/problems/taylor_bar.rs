@@ -5,7 +5,8 @@
 //! viscosity with Balsara's switch and Monaghan's artificial stress (see the parameters).
 //!
 //! Measured at 80 µs: the final length (highest particle plus half a spacing), the footprint
-//! radius (the farthest particle of the bottom layer from the axis plus half a spacing), the
+//! radius (the farthest particle of the bottom layer from the axis plus half a spacing; the mean
+//! and least of the farthest per 15° sector are reported beside it), the
 //! energy balance (kinetic + internal against the initial kinetic energy, with the internal
 //! energy split into plastic work, elastic shear energy and the rest: bulk elastic and viscous
 //! heating), the largest equivalent plastic strain and the largest excess over the yield
@@ -152,11 +153,17 @@ fn run_one(
     let n = p.n_real();
     let top = (0..n).map(|i| p.position[i][2]).fold(f64::MIN, f64::max);
     let final_length = top + 0.5 * dx;
-    let footprint = (0..n)
-        .filter(|&i| p.position[i][2] < dx)
-        .map(|i| p.position[i][0].hypot(p.position[i][1]))
-        .fold(0.0, f64::max)
-        + 0.5 * dx;
+    // the footprint: the farthest particle of the bottom layer (the checked value), and, to show
+    // how round the foot is on the lattice, the farthest per 15° sector of the quarter
+    let mut sector_max = [0.0f64; 6];
+    for i in (0..n).filter(|&i| p.position[i][2] < dx) {
+        let (x, y) = (p.position[i][0], p.position[i][1]);
+        let sector = ((y.atan2(x) / std::f64::consts::FRAC_PI_2 * 6.0) as usize).min(5);
+        sector_max[sector] = sector_max[sector].max(x.hypot(y));
+    }
+    let footprint = sector_max.iter().cloned().fold(0.0, f64::max) + 0.5 * dx;
+    let sector_least = sector_max.iter().cloned().fold(f64::INFINITY, f64::min) + 0.5 * dx;
+    let sector_mean = sector_max.iter().sum::<f64>() / 6.0 + 0.5 * dx;
     let kinetic: f64 = (0..n)
         .map(|i| 0.5 * p.mass[i] * p.velocity[i].norm_squared())
         .sum();
@@ -177,6 +184,8 @@ fn run_one(
     let m = &mut run.metrics;
     m.insert("final_length_mm".into(), 1e3 * final_length);
     m.insert("footprint_radius_mm".into(), 1e3 * footprint);
+    m.insert("footprint_sector_mean_mm".into(), 1e3 * sector_mean);
+    m.insert("footprint_sector_least_mm".into(), 1e3 * sector_least);
     m.insert("initial_kinetic_energy_full_bar_j".into(), 4.0 * kinetic0);
     m.insert("kinetic_energy_j".into(), 4.0 * kinetic);
     m.insert("plastic_work_j".into(), 4.0 * plastic);
