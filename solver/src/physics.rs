@@ -508,6 +508,27 @@ pub enum PairKernel {
     OwnH,
 }
 
+impl PairKernel {
+    /// dW/dr of the pair for i's and for j's side: the same W'(r, h̄_ij) twice (mean h), or
+    /// W'(r, h_i) and W'(r, h_j) (grad-h).
+    #[inline]
+    pub fn derivatives<const D: usize>(
+        self,
+        kernel: &Kernel<D>,
+        r: f64,
+        h_i: f64,
+        h_j: f64,
+    ) -> (f64, f64) {
+        match self {
+            PairKernel::MeanH => {
+                let dw = kernel.derivative(r, 0.5 * (h_i + h_j));
+                (dw, dw)
+            }
+            PairKernel::OwnH => (kernel.derivative(r, h_i), kernel.derivative(r, h_j)),
+        }
+    }
+}
+
 /// Momentum, energy and (for continuity density or grad-h) density rates of the real particles:
 /// Dv_i/Dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇_i W_ij, or with continuity density the
 /// volume form −Σ_j m_j ((p_i + p_j)/(ρ_i ρ_j) + Π_ij) ∇_i W_ij (the seed's
@@ -614,17 +635,13 @@ fn rates_at<const D: usize>(
             let inv_r = 1.0 / r;
             let h = 0.5 * (me.smoothing_length + other.smoothing_length);
             // dW/dr for i's pressure, for j's, and their mean for viscosity and conduction
-            let (dw_i, dw_j, dw_mean) = match terms.pair_kernel {
-                PairKernel::MeanH => {
-                    let dw = terms.kernel.derivative(r, h);
-                    (dw, dw, dw)
-                }
-                PairKernel::OwnH => {
-                    let dw_i = terms.kernel.derivative(r, me.smoothing_length);
-                    let dw_j = terms.kernel.derivative(r, other.smoothing_length);
-                    (dw_i, dw_j, 0.5 * (dw_i + dw_j))
-                }
-            };
+            let (dw_i, dw_j) = terms.pair_kernel.derivatives(
+                terms.kernel,
+                r,
+                me.smoothing_length,
+                other.smoothing_length,
+            );
+            let dw_mean = 0.5 * (dw_i + dw_j);
             let v_ij = me.velocity - other.velocity;
             let v_dot_x = v_ij.dot(&dx);
             let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
@@ -822,17 +839,8 @@ pub fn add_stress_rates<const D: usize>(
                 if r == 0.0 {
                     continue;
                 }
-                let (dw_i, dw_j) = match pair_kernel {
-                    PairKernel::MeanH => {
-                        let dw = kernel
-                            .derivative(r, 0.5 * (me.smoothing_length + other.smoothing_length));
-                        (dw, dw)
-                    }
-                    PairKernel::OwnH => (
-                        kernel.derivative(r, me.smoothing_length),
-                        kernel.derivative(r, other.smoothing_length),
-                    ),
-                };
+                let (dw_i, dw_j) =
+                    pair_kernel.derivatives(kernel, r, me.smoothing_length, other.smoothing_length);
                 let mut force = (me.stress_factor * (partner(other) * dw_i)
                     + other.stress_factor * (partner(me) * dw_j))
                     * (dx / r)

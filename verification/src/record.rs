@@ -112,6 +112,25 @@ impl Run {
     }
 }
 
+/// The observed order of each named error over `runs` (least squares in log error against log
+/// spacing; errors a run lacks count as missing), for the keys where there are two usable runs.
+pub fn observed_orders<'a>(
+    runs: impl IntoIterator<Item = &'a Run> + Clone,
+    keys: &[&str],
+) -> BTreeMap<String, f64> {
+    let spacing: Vec<f64> = runs.clone().into_iter().map(|r| r.spacing).collect();
+    keys.iter()
+        .filter_map(|&key| {
+            let errors: Vec<f64> = runs
+                .clone()
+                .into_iter()
+                .map(|r| r.errors.get(key).copied().unwrap_or(f64::NAN))
+                .collect();
+            crate::norms::observed_order(&spacing, &errors).map(|p| (key.to_string(), p))
+        })
+        .collect()
+}
+
 /// The phase timings of a simulation as a name → seconds map.
 pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f64> {
     [

@@ -18,9 +18,9 @@
 
 use crate::impedance::{MaterialState, WavePattern};
 use crate::materials::Library;
-use crate::norms::{l1_error, observed_order};
+use crate::norms::l1_error;
 use crate::params::{ParamSpec, Params};
-use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -29,7 +29,6 @@ use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, EquationOfState,
     Geometry, KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
-use std::collections::BTreeMap;
 
 pub const NAME: &str = "density-ratio-tube";
 const X0: f64 = 0.5;
@@ -294,17 +293,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
             2.0,
         ));
     }
-    let mut order = BTreeMap::new();
-    let spacing: Vec<f64> = runs.iter().map(|r| r.spacing).collect();
-    for key in ["l1_rho", "l1_u", "l1_p"] {
-        let errors: Vec<f64> = runs
-            .iter()
-            .map(|r| r.errors.get(key).copied().unwrap_or(f64::NAN))
-            .collect();
-        if let Some(p) = observed_order(&spacing, &errors) {
-            order.insert(key.to_string(), p);
-        }
-    }
+    let order = observed_orders(&runs, &["l1_rho", "l1_u", "l1_p"]);
     let finest = (0..resolutions.len())
         .max_by_key(|&k| resolutions[k])
         .expect("one resolution at least");

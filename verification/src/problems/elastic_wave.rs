@@ -12,9 +12,8 @@
 //! energy (kinetic + internal, which holds the elastic energy) over the run.
 
 use crate::materials::Library;
-use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
-use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -336,17 +335,9 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
                 0.01,
             ));
         }
-        let spacing: Vec<f64> = of_dim.iter().map(|r| r.spacing).collect();
-        let errors: Vec<f64> = of_dim
-            .iter()
-            .map(|r| {
-                r.errors
-                    .get("wave_speed_relative")
-                    .copied()
-                    .unwrap_or(f64::NAN)
-            })
-            .collect();
-        if let Some(p) = observed_order(&spacing, &errors) {
+        if let Some(p) = observed_orders(of_dim.iter().copied(), &["wave_speed_relative"])
+            .remove("wave_speed_relative")
+        {
             order.insert(format!("wave_speed_relative_{dim}"), p);
         }
     }

@@ -18,9 +18,9 @@
 
 use crate::impedance::{self, InterfaceSolution, MaterialState, Wave, WaveKind, WavePattern};
 use crate::materials::Library;
-use crate::norms::{l1_error, observed_order};
+use crate::norms::l1_error;
 use crate::params::{ParamSpec, Params};
-use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -29,7 +29,6 @@ use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EquationOfState, Geometry,
     InterfacePenalty, KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
-use std::collections::BTreeMap;
 
 pub const NAMES: [&str; 3] = [
     "impedance-low-high",
@@ -560,17 +559,10 @@ pub fn run(
             ));
         }
     }
-    let mut order = BTreeMap::new();
-    let spacing: Vec<f64> = measured.iter().map(|m| m.run.spacing).collect();
-    for key in ["l1_u_over_v", "interface_pressure_relative"] {
-        let errors: Vec<f64> = measured
-            .iter()
-            .map(|m| m.run.errors.get(key).copied().unwrap_or(f64::NAN))
-            .collect();
-        if let Some(p) = observed_order(&spacing, &errors) {
-            order.insert(key.to_string(), p);
-        }
-    }
+    let order = observed_orders(
+        measured.iter().map(|m| &m.run),
+        &["l1_u_over_v", "interface_pressure_relative"],
+    );
     if measured.len() >= 2 {
         // the error falls with resolution: shocks limit the L1 error of the velocity profile
         // to first order; 0.5 leaves room for the pre-asymptotic range of the quick level

@@ -14,9 +14,8 @@
 //! radius 7.12 mm (Simo 1992; 7.11–7.23 across the published codes).
 
 use crate::materials::Library;
-use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
-use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -26,7 +25,6 @@ use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, Simulation, SimulationConfig,
     SmoothingLength, Vector,
 };
-use std::collections::BTreeMap;
 
 pub const NAME: &str = "taylor-bar-3d";
 const MATERIAL: &str = "cu-taylor-bar";
@@ -296,17 +294,10 @@ pub fn run(
             1e-6,
         ));
     }
-    let mut order = BTreeMap::new();
-    let spacing: Vec<f64> = measured.iter().map(|m| m.run.spacing).collect();
-    for key in ["final_length_relative", "footprint_radius_relative"] {
-        let errors: Vec<f64> = measured
-            .iter()
-            .map(|m| m.run.errors.get(key).copied().unwrap_or(f64::NAN))
-            .collect();
-        if let Some(p) = observed_order(&spacing, &errors) {
-            order.insert(key.to_string(), p);
-        }
-    }
+    let order = observed_orders(
+        measured.iter().map(|m| &m.run),
+        &["final_length_relative", "footprint_radius_relative"],
+    );
     let runs: Vec<Run> = measured.iter().map(|m| m.run.clone()).collect();
     let mut table = Table::new(&["x", "y", "z", "plastic_strain"]);
     for q in &measured[finest].particles {
@@ -315,7 +306,7 @@ pub fn run(
     let side: Vec<(f64, f64)> = measured[finest]
         .particles
         .iter()
-        .filter(|q| q.1 < 0.6 * spacing[finest])
+        .filter(|q| q.1 < 0.6 * measured[finest].run.spacing)
         .map(|q| (1e3 * q.0, 1e3 * q.2))
         .collect();
     let figure = Figure {

@@ -19,9 +19,9 @@
 
 use crate::impedance::{self, MaterialState};
 use crate::materials::Library;
-use crate::norms::{l1_error, observed_order};
+use crate::norms::l1_error;
 use crate::params::{ParamSpec, Params};
-use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -30,7 +30,6 @@ use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, Geometry, Jwl,
     KernelShape, ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
-use std::collections::BTreeMap;
 
 pub const NAME: &str = "tnt-slab";
 
@@ -383,14 +382,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         get(finest, "front_speed_relative"),
         0.02,
     ));
-    let mut order = BTreeMap::new();
-    let spacing: Vec<f64> = measured.iter().map(|m| m.run.spacing).collect();
-    let errors: Vec<f64> = (0..measured.len())
-        .map(|k| get(k, "l1_p_over_p_cj"))
-        .collect();
-    if let Some(p) = observed_order(&spacing, &errors) {
-        order.insert("l1_p_over_p_cj".to_string(), p);
-    }
+    let order = observed_orders(measured.iter().map(|m| &m.run), &["l1_p_over_p_cj"]);
     if measured.len() >= 2 {
         // the peak approaches p_CJ as the ramp (2h) and the viscous spread shrink with h
         checks.push(Check::at_most(
