@@ -107,6 +107,12 @@ impl Params {
         self.raw(key).to_string()
     }
 
+    /// The Courant number `cfl`, within the solver's allowed range.
+    pub fn cfl(&self) -> Result<f64, VerifyError> {
+        let (lo, hi) = blastsph_solver::step::CFL_RANGE;
+        self.number("cfl", lo, hi)
+    }
+
     pub fn number(&self, key: &str, lo: f64, hi: f64) -> Result<f64, VerifyError> {
         let raw = self.raw(key);
         match raw.trim().parse::<f64>() {

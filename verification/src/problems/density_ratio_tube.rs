@@ -112,11 +112,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         },
         energy: EnergyEquation::OwnPressure,
         smoothing: SmoothingLength::FollowDensity { eta },
-        cfl: params.number(
-            "cfl",
-            blastsph_solver::step::CFL_RANGE.0,
-            blastsph_solver::step::CFL_RANGE.1,
-        )?,
+        cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
     };
     Ok(Settings {

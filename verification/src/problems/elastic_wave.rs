@@ -100,11 +100,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         amplitude: params.number("amplitude", 1e-3, 50.0)?,
         width,
         travel: params.number("travel", 2.0 * width, 0.04)?,
-        cfl: params.number(
-            "cfl",
-            blastsph_solver::step::CFL_RANGE.0,
-            blastsph_solver::step::CFL_RANGE.1,
-        )?,
+        cfl: params.cfl()?,
         viscosity: ArtificialViscosity {
             alpha: params.number("alpha", 0.0, 10.0)?,
             beta: params.number("beta", 0.0, 10.0)?,

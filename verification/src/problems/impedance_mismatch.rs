@@ -241,11 +241,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         },
         energy: blastsph_solver::EnergyEquation::OwnPressure,
         smoothing: SmoothingLength::FollowDensity { eta },
-        cfl: params.number(
-            "cfl",
-            blastsph_solver::step::CFL_RANGE.0,
-            blastsph_solver::step::CFL_RANGE.1,
-        )?,
+        cfl: params.cfl()?,
         min_time_step: 1e-9 * exact.end_time(2.0 * unit),
     };
     Ok(Settings {

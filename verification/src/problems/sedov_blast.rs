@@ -181,11 +181,7 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
         },
         energy: EnergyEquation::OwnPressure,
         smoothing: SmoothingLength::Fixed,
-        cfl: params.number(
-            "cfl",
-            blastsph_solver::step::CFL_RANGE.0,
-            blastsph_solver::step::CFL_RANGE.1,
-        )?,
+        cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
     };
     Ok(Settings {

@@ -170,11 +170,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
             &SmoothingLength::all(eta),
             SmoothingLength::name,
         )?,
-        cfl: params.number(
-            "cfl",
-            blastsph_solver::step::CFL_RANGE.0,
-            blastsph_solver::step::CFL_RANGE.1,
-        )?,
+        cfl: params.cfl()?,
         // a step 1e-9 of the run's length means the run would need 1e9 steps: collapsed
         min_time_step: 1e-9 * t_end,
     };

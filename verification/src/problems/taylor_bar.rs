@@ -225,11 +225,7 @@ pub fn run(
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<ProblemOutput, VerifyError> {
     let resolutions = params.integers("n_radius", 2, 40)?;
-    let cfl = params.number(
-        "cfl",
-        blastsph_solver::step::CFL_RANGE.0,
-        blastsph_solver::step::CFL_RANGE.1,
-    )?;
+    let cfl = params.cfl()?;
     let t_end = params.number("t_end", 1e-7, 2e-4)?;
     let viscosity = ArtificialViscosity {
         alpha: params.number("alpha", 0.0, 10.0)?,

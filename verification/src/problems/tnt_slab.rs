@@ -190,11 +190,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         viscosity: ArtificialViscosity::default(),
         energy: EnergyEquation::OwnPressure,
         smoothing: SmoothingLength::FollowDensity { eta },
-        cfl: params.number(
-            "cfl",
-            blastsph_solver::step::CFL_RANGE.0,
-            blastsph_solver::step::CFL_RANGE.1,
-        )?,
+        cfl: params.cfl()?,
         min_time_step: 1e-9 * length / detonation.speed,
     };
     Ok(Settings {
