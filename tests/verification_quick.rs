@@ -231,3 +231,22 @@ fn taylor_bar_3d_passes_its_quick_checks() {
         .check("footprint_radius_relative")
         .is_some_and(|c| c.limit == 0.08));
 }
+
+/// The same bar as rings in (r, z) about its axis: the same limits.
+#[test]
+fn taylor_bar_axisymmetric_passes_its_quick_checks() {
+    let out = run("taylor-bar-axisymmetric", &[]);
+    assert_all_checks_pass(&out);
+    assert!(out
+        .record
+        .check("footprint_radius_relative")
+        .is_some_and(|c| c.limit == 0.08));
+}
+
+/// Gray, Monaghan & Swift's rubber rings with artificial stress: they bounce apart intact,
+/// with momentum to round-off and energy within 1e-3.
+#[test]
+fn colliding_rings_bounce_apart_intact() {
+    let out = run("colliding-rings", &[]);
+    assert_all_checks_pass(&out);
+}

@@ -8,6 +8,7 @@
 // `!(x >= limit)` is used on purpose: unlike `x < limit` it is also true for a NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod axisymmetric;
 pub mod boundary;
 pub mod burn;
 pub mod eos;

@@ -6,6 +6,7 @@
 //! Loops gather over each particle's own list (each pair is visited from both sides) so the
 //! parallel result is bitwise independent of the thread count.
 
+use crate::axisymmetric::PairGeometry;
 use crate::error::SolverError;
 use crate::kernel::Kernel;
 use crate::neighbours::NeighbourList;
@@ -542,8 +543,10 @@ impl PairKernel {
 /// Σ_j m_j v_ij·∇_i W_ij(h_i) (the rate of the grad-h summation density),
 /// with the grad-h forms where `pair_kernel` is [`PairKernel::OwnH`] (the particles then carry
 /// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess). `balsara` holds each real
-/// particle's switch factor where the switch is on.
+/// particle's switch factor where the switch is on. In an axisymmetric `geometry` the pairs see
+/// ring densities and fluxes (see [`crate::axisymmetric`]) and the density rate is Dη/Dt.
 /// Returns the total force the walls exert on the particles.
+#[allow(clippy::too_many_arguments)]
 pub fn compute_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
@@ -552,6 +555,7 @@ pub fn compute_rates<const D: usize>(
     energy: EnergyEquation,
     pair_kernel: PairKernel,
     balsara: Option<&[f64]>,
+    geometry: PairGeometry,
 ) -> Vector<D> {
     let n = particles.n_real();
     let p = &*particles;
@@ -566,23 +570,28 @@ pub fn compute_rates<const D: usize>(
     let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
     let sources: Vec<RateSource<D>> = (0..p.len())
         .into_par_iter()
-        .map(|k| RateSource {
-            position: p.position[k],
-            velocity: p.velocity[k],
-            smoothing_length: p.smoothing_length[k],
-            mass: p.mass[k],
-            density: p.density[k],
-            sound_speed: p.sound_speed[k],
-            pressure: p.pressure[k],
-            internal_energy: p.internal_energy[k],
-            pressure_factor: if volume_form {
-                p.pressure[k] / p.density[k]
-            } else {
-                pressure_term(p.pressure[k], p.density[k], 0.0, 1.0) / omega(k)
-            },
-            is_wall: p.image(k).is_some_and(|im| im.is_wall),
-            material: p.material_of(k) as u16,
-            balsara: balsara.map_or(1.0, |f| f[p.real_index(k)]),
+        .map(|k| {
+            let (density_scale, stress_scale) = geometry.scales(p, k);
+            let density = p.density[k] * density_scale;
+            let pressure = p.pressure[k] * stress_scale;
+            RateSource {
+                position: p.position[k],
+                velocity: p.velocity[k],
+                smoothing_length: p.smoothing_length[k],
+                mass: p.mass[k],
+                density,
+                sound_speed: p.sound_speed[k],
+                pressure,
+                internal_energy: p.internal_energy[k],
+                pressure_factor: if volume_form {
+                    pressure / density
+                } else {
+                    pressure_term(pressure, density, 0.0, 1.0) / omega(k)
+                },
+                is_wall: p.image(k).is_some_and(|im| im.is_wall),
+                material: p.material_of(k) as u16,
+                balsara: balsara.map_or(1.0, |f| f[p.real_index(k)]),
+            }
         })
         .collect();
     let rates: Vec<Rates<D>> = (0..n)
@@ -700,11 +709,13 @@ fn rates_at<const D: usize>(
 /// w_ij = 1/(Ω_i ρ_i) in the standard form and 1/ρ_j in the volume form (continuity density):
 /// the weights under which the work of the stress forces equals the deviatoric heating
 /// s_i:ε̇_i/ρ_i exactly (see [`add_stress_rates`]). Also the source of the Balsara switch.
+/// Axisymmetric: the planar (r, z) block, with the ring densities as ρ.
 pub fn velocity_gradients<const D: usize>(
     particles: &Particles<D>,
     neighbours: &NeighbourList,
     kernel: &Kernel<D>,
     pair_kernel: PairKernel,
+    geometry: PairGeometry,
 ) -> Vec<Tensor<D>> {
     let p = particles;
     let volume_form = !p.density_rate.is_empty();
@@ -722,10 +733,11 @@ pub fn velocity_gradients<const D: usize>(
                     PairKernel::MeanH => 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]),
                     PairKernel::OwnH => p.smoothing_length[i],
                 };
+                let ring_density = |k: usize| p.density[k] * geometry.scales(p, k).0;
                 let weight = if volume_form {
-                    1.0 / p.density[j]
+                    1.0 / ring_density(j)
                 } else {
-                    1.0 / p.density[i]
+                    1.0 / ring_density(i)
                 };
                 let scale = p.mass[j] * weight * kernel.derivative(r, h) / r;
                 gradient += (p.velocity[j] - p.velocity[i]) * (dx * scale).transpose();
@@ -741,9 +753,17 @@ pub fn velocity_gradients<const D: usize>(
 
 /// Balsara's (1995) switch f_i = |∇·v| / (|∇·v| + |∇×v| + 1e-4 c_i/h_i): near 1 in compression,
 /// near 0 in shear, so the viscosity meant for shocks spares shearing (plastic) flow. The
-/// curl's magnitude in 2D is |L_yx − L_xy|; in 3D the norm of the axial vector; in 1D zero.
-pub fn balsara_factor<const D: usize>(gradient: &Tensor<D>, sound_speed: f64, h: f64) -> f64 {
-    let divergence = gradient.trace().abs();
+/// divergence includes the hoop rate v_r/r of an axisymmetric scene (`hoop_rate`, 0 otherwise):
+/// without it the radial plastic flow of a Taylor bar's foot, whose planar divergence is −v_r/r,
+/// would count as compression. The curl's magnitude in 2D is |L_yx − L_xy|; in 3D the norm of
+/// the axial vector; in 1D zero.
+pub fn balsara_factor<const D: usize>(
+    gradient: &Tensor<D>,
+    hoop_rate: f64,
+    sound_speed: f64,
+    h: f64,
+) -> f64 {
+    let divergence = (gradient.trace() + hoop_rate).abs();
     let mut curl2 = 0.0;
     for a in 0..D {
         for b in (a + 1)..D {
@@ -778,7 +798,10 @@ struct StressSource<const D: usize> {
 /// deviatoric heating, so total energy is conserved. A separate pass, so that fluid scenes carry
 /// no tensors. `velocity_gradient` comes from [`velocity_gradients`]; `shear_modulus[m]` is
 /// material m's G (0 for a fluid). With `artificial_stress`, Monaghan's term joins (see
-/// [`ArtificialStress`]). Returns the wall force.
+/// [`ArtificialStress`]). In an axisymmetric `geometry` the pairs see ring densities and
+/// fluxes, and `hoop_rate` (ε̇_θθ per real particle, [`crate::axisymmetric::hoop_strain_rates`])
+/// joins the heating, the equivalent strain rate and the stress rate. Returns the wall force.
+#[allow(clippy::too_many_arguments)]
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
@@ -787,6 +810,8 @@ pub fn add_stress_rates<const D: usize>(
     velocity_gradient: &[Tensor<D>],
     shear_modulus: &[f64],
     artificial_stress: Option<ArtificialStress>,
+    geometry: PairGeometry,
+    hoop_rate: Option<&[f64]>,
 ) -> Vector<D> {
     let n = particles.n_real();
     let p = &*particles;
@@ -794,28 +819,36 @@ pub fn add_stress_rates<const D: usize>(
     let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
     let sources: Vec<StressSource<D>> = (0..p.len())
         .into_par_iter()
-        .map(|k| StressSource {
-            position: p.position[k],
-            smoothing_length: p.smoothing_length[k],
-            mass: p.mass[k],
-            density: p.density[k],
-            stress_factor: if volume_form {
-                p.deviatoric_stress[k] / p.density[k]
-            } else {
-                p.deviatoric_stress[k] / (omega(k) * p.density[k] * p.density[k])
-            },
-            is_wall: p.image(k).is_some_and(|im| im.is_wall),
-            velocity: p.velocity[k],
-            artificial: match artificial_stress {
-                Some(a) if shear_modulus[p.material_of(k)] > 0.0 => artificial_stress_of(
-                    p.pressure[k],
-                    &p.deviatoric_stress[k],
-                    p.density[k],
-                    a.epsilon,
-                ),
-                _ => Tensor::zeros(),
-            },
-            spacing: (p.mass[k] / p.density[k]).powf(1.0 / D as f64),
+        .map(|k| {
+            let (density_scale, stress_scale) = geometry.scales(p, k);
+            let density = p.density[k] * density_scale;
+            let stress = p.deviatoric_stress[k] * stress_scale;
+            StressSource {
+                position: p.position[k],
+                smoothing_length: p.smoothing_length[k],
+                mass: p.mass[k],
+                density,
+                stress_factor: if volume_form {
+                    stress / density
+                } else {
+                    stress / (omega(k) * density * density)
+                },
+                is_wall: p.image(k).is_some_and(|im| im.is_wall),
+                velocity: p.velocity[k],
+                // R = −εσ'/ρ² of the particle's own tensile stress, seen as a ring flux over η²
+                artificial: match artificial_stress {
+                    Some(a) if shear_modulus[p.material_of(k)] > 0.0 => {
+                        artificial_stress_of(
+                            p.pressure[k],
+                            &p.deviatoric_stress[k],
+                            p.density[k],
+                            a.epsilon,
+                        ) * (stress_scale / (density_scale * density_scale))
+                    }
+                    _ => Tensor::zeros(),
+                },
+                spacing: (p.mass[k] / density).powf(1.0 / D as f64),
+            }
         })
         .collect();
     let exponent = artificial_stress.map_or(0.0, |a| a.exponent);
@@ -871,14 +904,14 @@ pub fn add_stress_rates<const D: usize>(
         let s = p.deviatoric_stress[i];
         let gradient = &velocity_gradient[i];
         let strain_rate = 0.5 * (gradient + gradient.transpose());
-        p.energy_rate[i] += s.component_mul(&strain_rate).sum() / p.density[i];
-        // √(2/3 ė':ė') with the deviatoric rate's out-of-plane normals −tr/3 each
-        let deviatoric = strain_rate - Tensor::<D>::identity() * (strain_rate.trace() / 3.0);
-        let out_of_plane = (3 - D) as f64 * (strain_rate.trace() / 3.0).powi(2);
-        p.strain_rate[i] = (2.0 / 3.0 * (deviatoric.norm_squared() + out_of_plane)).sqrt();
+        // out of the plane: ε̇_θθ = v_r/r (axisymmetric) or 0 (uniaxial, plane strain), where
+        // s_θθ = −tr s
+        let hoop = hoop_rate.map_or(0.0, |rates| rates[i]);
+        p.energy_rate[i] += (s.component_mul(&strain_rate).sum() - s.trace() * hoop) / p.density[i];
+        p.strain_rate[i] = crate::strength::equivalent_strain_rate(&strain_rate, hoop);
         let g = shear_modulus[p.material_of(i)];
         p.stress_rate[i] = if g > 0.0 {
-            crate::strength::jaumann_rate(g, &s, gradient)
+            crate::strength::jaumann_rate(g, &s, gradient, hoop)
         } else {
             Tensor::zeros()
         };

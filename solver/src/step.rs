@@ -10,6 +10,7 @@
 //! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
 //! signal speed, and the force criterion).
 
+use crate::axisymmetric::{self, PairGeometry};
 use crate::boundary::{Boundary, Domain};
 use crate::burn::ProgrammedBurn;
 use crate::eos::Material;
@@ -23,6 +24,7 @@ use crate::physics::{
 use crate::radial::{self, Geometry, RadialKernel};
 use crate::strength::YieldState;
 use crate::{Tensor, Vector};
+use std::f64::consts::PI;
 use std::time::Instant;
 
 /// How each particle's smoothing length is set.
@@ -107,6 +109,10 @@ pub const CFL_RANGE: (f64, f64) = (0.01, 0.5);
 pub struct SimulationConfig {
     /// Planar (Cartesian in D dimensions) or, for D = 1, cylindrical or spherical in r.
     pub geometry: Geometry,
+    /// D = 2 only: x is the distance r from an axis of symmetry and y is z; each particle is a
+    /// ring whose mass is the particle's (see [`crate::axisymmetric`]). Needs continuity
+    /// density and a wall at r = 0 (the axis).
+    pub axisymmetric: bool,
     pub kernel: KernelShape,
     pub density: DensityMethod,
     pub viscosity: ArtificialViscosity,
@@ -122,6 +128,7 @@ impl Default for SimulationConfig {
     fn default() -> Self {
         Self {
             geometry: Geometry::Planar,
+            axisymmetric: false,
             kernel: KernelShape::CubicSpline,
             density: DensityMethod::Summation,
             viscosity: ArtificialViscosity::default(),
@@ -180,21 +187,38 @@ impl SimulationConfig {
                 "≥ 0",
             ));
         }
-        self.validate_geometry::<1>()?;
+        self.validate_geometry(None)?;
         self.viscosity.validate()
     }
 
     /// Radial geometries are one-dimensional, with summation density and h fixed or following
-    /// the density (the grad-h terms are derived for Cartesian kernels only).
-    fn validate_geometry<const D: usize>(&self) -> Result<(), SolverError> {
+    /// the density (the grad-h terms are derived for Cartesian kernels only); axisymmetric
+    /// scenes are 2D with continuity density. `dimension` is the scene's D where known.
+    fn validate_geometry(&self, dimension: Option<usize>) -> Result<(), SolverError> {
+        if self.axisymmetric {
+            if dimension.is_some_and(|d| d != 2) || self.geometry != Geometry::Planar {
+                return Err(SolverError::invalid(
+                    "axisymmetric",
+                    format!("{} in {:?}D", self.geometry.name(), dimension),
+                    "2D planar (r, z)",
+                ));
+            }
+            if self.density != DensityMethod::Continuity {
+                return Err(SolverError::invalid(
+                    "density",
+                    self.density.name(),
+                    "continuity in an axisymmetric scene (summed ring masses smear η near the axis)",
+                ));
+            }
+        }
         if self.geometry == Geometry::Planar {
             return Ok(());
         }
-        if D != 1 {
+        if let Some(d) = dimension.filter(|&d| d != 1) {
             return Err(SolverError::invalid(
                 "geometry",
                 self.geometry.name(),
-                &format!("planar in {D}D (cylindrical and spherical are 1D in r)"),
+                &format!("planar in {d}D (cylindrical and spherical are 1D in r)"),
             ));
         }
         if self.density != DensityMethod::Summation {
@@ -303,7 +327,7 @@ impl<const D: usize> Simulation<D> {
         burn: Option<ProgrammedBurn>,
     ) -> Result<Self, SolverError> {
         config.validate()?;
-        config.validate_geometry::<D>()?;
+        config.validate_geometry(Some(D))?;
         validate_particles(init, materials.len())?;
         let radial_kernel = (config.geometry != Geometry::Planar)
             .then(|| RadialKernel::new(config.geometry, config.kernel));
@@ -316,6 +340,9 @@ impl<const D: usize> Simulation<D> {
                     "fluids only in a radial geometry (the stress terms are Cartesian)",
                 ));
             }
+        }
+        if config.axisymmetric {
+            validate_axisymmetric_scene(init, &domain)?;
         }
         let optional = OptionalFields {
             density_rate: config.density == DensityMethod::Continuity,
@@ -587,13 +614,18 @@ impl<const D: usize> Simulation<D> {
             SmoothingLength::FollowDensity { eta } => {
                 let p = &mut self.particles;
                 let geometry = self.config.geometry;
+                let axisymmetric = self.config.axisymmetric;
                 for i in 0..p.n_real() {
                     let volume = p.mass[i] / p.density[i];
+                    let r = p.position[i][0];
                     p.smoothing_length[i] = eta
-                        * if geometry == Geometry::Planar {
+                        * if axisymmetric {
+                            // the ring's cross-section in the (r, z) plane
+                            (volume / (2.0 * PI * r)).sqrt()
+                        } else if geometry == Geometry::Planar {
                             volume.powf(1.0 / D as f64)
                         } else {
-                            geometry.shell_width(p.position[i][0], volume)
+                            geometry.shell_width(r, volume)
                         };
                 }
                 self.search_neighbours();
@@ -651,9 +683,25 @@ impl<const D: usize> Simulation<D> {
             );
         } else {
             let pair_kernel = self.config.smoothing.pair_kernel();
+            let pair_geometry = if self.config.axisymmetric {
+                PairGeometry::Axisymmetric
+            } else {
+                PairGeometry::Planar
+            };
             let solids = !p.deviatoric_stress.is_empty();
+            let radius_gradient = (pair_geometry == PairGeometry::Axisymmetric)
+                .then(|| axisymmetric::radius_gradients(p, &self.neighbours, &self.kernel));
+            let hoop_rate = radius_gradient
+                .as_ref()
+                .map(|g| axisymmetric::hoop_strain_rates(p, g));
             let gradients = (solids || self.config.viscosity.balsara).then(|| {
-                physics::velocity_gradients(p, &self.neighbours, &self.kernel, pair_kernel)
+                physics::velocity_gradients(
+                    p,
+                    &self.neighbours,
+                    &self.kernel,
+                    pair_kernel,
+                    pair_geometry,
+                )
             });
             let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
                 (Some(gradients), true) => Some(
@@ -661,6 +709,7 @@ impl<const D: usize> Simulation<D> {
                         .map(|i| {
                             physics::balsara_factor(
                                 &gradients[i],
+                                hoop_rate.as_ref().map_or(0.0, |rates| rates[i]),
                                 p.sound_speed[i],
                                 p.smoothing_length[i],
                             )
@@ -677,6 +726,7 @@ impl<const D: usize> Simulation<D> {
                 self.config.energy,
                 pair_kernel,
                 balsara.as_deref(),
+                pair_geometry,
             );
             if let (true, Some(gradients)) = (solids, &gradients) {
                 let shear_modulus: Vec<f64> = self
@@ -692,7 +742,12 @@ impl<const D: usize> Simulation<D> {
                     gradients,
                     &shear_modulus,
                     self.config.viscosity.artificial_stress,
+                    pair_geometry,
+                    hoop_rate.as_deref(),
                 );
+            }
+            if let (Some(g), Some(hoop_rate)) = (&radius_gradient, &hoop_rate) {
+                axisymmetric::add_hoop_terms(p, g, hoop_rate);
             }
         }
         self.times.forces += start.elapsed().as_secs_f64();
@@ -830,6 +885,28 @@ fn validate_radial_scene<const D: usize>(
             "boundary",
             format!("{:?}/{:?}", domain.lower[0], domain.upper[0]),
             "open in a radial geometry (the origin reflects by symmetry)",
+        ));
+    }
+    Ok(())
+}
+
+/// An axisymmetric scene has r > 0 for every particle and a mirror wall on the axis r = 0.
+fn validate_axisymmetric_scene<const D: usize>(
+    init: &[ParticleInit<D>],
+    domain: &Domain<D>,
+) -> Result<(), SolverError> {
+    if let Some(k) = init.iter().position(|p| !(p.position[0] > 0.0)) {
+        return Err(SolverError::invalid(
+            &format!("particle {k} radius"),
+            init[k].position[0],
+            "r > 0 in an axisymmetric scene",
+        ));
+    }
+    if domain.lower[0] != Boundary::Wall || domain.lo[0] != 0.0 {
+        return Err(SolverError::invalid(
+            "boundary at the axis",
+            format!("{:?} at r = {}", domain.lower[0], domain.lo[0]),
+            "a wall at r = 0 in an axisymmetric scene",
         ));
     }
     Ok(())

@@ -113,6 +113,19 @@ impl Strength {
         })
     }
 
+    /// A purely elastic solid (rubber, a lining kept below yield): von Mises with an infinite
+    /// yield stress, so the return never acts.
+    pub fn elastic(shear_modulus: f64) -> Result<Self, SolverError> {
+        positive("shear modulus", shear_modulus)?;
+        Ok(Self {
+            shear_modulus,
+            surface: YieldSurface::VonMises {
+                yield_stress: f64::INFINITY,
+                hardening_modulus: 0.0,
+            },
+        })
+    }
+
     /// Drucker–Prager / Mohr–Coulomb for soil: cohesion c ≥ 0 (Pa), friction angle φ in degrees
     /// in [0, 60), tensile strength σ_t ≥ 0 (Pa) no larger than the cone's apex c/tan φ.
     pub fn drucker_prager(
@@ -308,17 +321,34 @@ pub fn von_mises<const D: usize>(s: &SMatrix<f64, D, D>) -> f64 {
     (1.5 * full_contraction(s)).sqrt()
 }
 
-/// The Jaumann stress rate 2G (ε̇ − ⅓ tr ε̇ I) + Ω s − s Ω from the velocity gradient
-/// L_ab = ∂v_a/∂x_b (out-of-plane strain rates are zero).
+/// The Jaumann stress rate 2G (ε̇ − ⅓ tr ε̇ I) + Ω s − s Ω of the in-plane block, from the
+/// velocity gradient L_ab = ∂v_a/∂x_b, where each of the 3 − D out-of-plane normal strain rates
+/// is `out_of_plane_rate` (0 in uniaxial and plane strain, v_r/r in axisymmetric (r, z)) and so
+/// enters the trace. The out-of-plane stresses follow from tr s = 0.
 pub fn jaumann_rate<const D: usize>(
     shear_modulus: f64,
     s: &SMatrix<f64, D, D>,
     velocity_gradient: &SMatrix<f64, D, D>,
+    out_of_plane_rate: f64,
 ) -> SMatrix<f64, D, D> {
     let strain_rate = 0.5 * (velocity_gradient + velocity_gradient.transpose());
     let spin = 0.5 * (velocity_gradient - velocity_gradient.transpose());
-    let deviatoric = strain_rate - SMatrix::<f64, D, D>::identity() * (strain_rate.trace() / 3.0);
+    let mean = (strain_rate.trace() + (3 - D) as f64 * out_of_plane_rate) / 3.0;
+    let deviatoric = strain_rate - SMatrix::<f64, D, D>::identity() * mean;
     deviatoric * (2.0 * shear_modulus) + spin * s - s * spin
+}
+
+/// The equivalent strain rate √(2/3 ė':ė') of the full 3D rate whose in-plane block is
+/// `strain_rate` and whose 3 − D out-of-plane normals are each `out_of_plane_rate`.
+pub fn equivalent_strain_rate<const D: usize>(
+    strain_rate: &SMatrix<f64, D, D>,
+    out_of_plane_rate: f64,
+) -> f64 {
+    let out_of_plane = (3 - D) as f64;
+    let mean = (strain_rate.trace() + out_of_plane * out_of_plane_rate) / 3.0;
+    let in_plane = strain_rate - SMatrix::<f64, D, D>::identity() * mean;
+    let normal = out_of_plane * (out_of_plane_rate - mean).powi(2);
+    (2.0 / 3.0 * (in_plane.norm_squared() + normal)).sqrt()
 }
 
 #[cfg(test)]
@@ -337,7 +367,7 @@ mod tests {
     fn uniaxial_strain_has_the_right_equivalent_stress() {
         let s = Matrix1::new(4.0 / 3.0 * 10.0);
         assert!((von_mises(&s) - 20.0).abs() < 1e-12);
-        let rate = jaumann_rate(10.0, &Matrix1::zeros(), &Matrix1::new(1.0));
+        let rate = jaumann_rate(10.0, &Matrix1::zeros(), &Matrix1::new(1.0), 0.0);
         assert!((rate[0] - 40.0 / 3.0).abs() < 1e-12);
     }
 
@@ -351,12 +381,32 @@ mod tests {
     }
 
     /// A rigid rotation (no strain) leaves σ_eq unchanged: the Jaumann rate of a spin is
+
+    /// Axisymmetric (r, z): the 2D block with the hoop rate as the out-of-plane normal gives
+    /// the same stress rate and equivalent strain rate as the full 3D tensor diag-extended by
+    /// ε̇_θθ (the 3D rate with no out-of-plane terms).
+    #[test]
+    fn hoop_rate_matches_the_full_tensor() {
+        let l2 = Matrix2::new(0.4, -0.25, 0.7, -1.1);
+        let hoop = 0.35;
+        let l3 = Matrix3::new(0.4, -0.25, 0.0, 0.7, -1.1, 0.0, 0.0, 0.0, hoop);
+        let s2 = Matrix2::new(2.0, 0.7, 0.7, -0.5);
+        let s3 = Matrix3::new(2.0, 0.7, 0.0, 0.7, -0.5, 0.0, 0.0, 0.0, -1.5);
+        let rate2 = jaumann_rate(30.0, &s2, &l2, hoop);
+        let rate3 = jaumann_rate(30.0, &s3, &l3, 0.0);
+        assert!((rate2 - rate3.fixed_view::<2, 2>(0, 0)).norm() < 1e-12);
+        assert!((rate3[(2, 2)] + rate2.trace()).abs() < 1e-12);
+        let d2 = 0.5 * (l2 + l2.transpose());
+        let d3 = 0.5 * (l3 + l3.transpose());
+        let equivalent = equivalent_strain_rate(&d2, hoop);
+        assert!((equivalent - equivalent_strain_rate(&d3, 0.0)).abs() < 1e-12);
+    }
     /// tangent to the sphere s:s = const.
     #[test]
     fn a_spin_does_not_change_the_equivalent_stress() {
         let s = Matrix2::new(2.0, 0.7, 0.7, -2.0);
         let spin = Matrix2::new(0.0, 0.3, -0.3, 0.0);
-        let rate = jaumann_rate(50.0, &s, &spin);
+        let rate = jaumann_rate(50.0, &s, &spin, 0.0);
         // d(s:s)/dt = 2 s:ṡ = 0
         assert!(s.component_mul(&rate).sum().abs() < 1e-12);
     }

@@ -134,7 +134,8 @@ fn plastic_flow_stays_on_the_yield_surface() {
 }
 
 /// Balsara's switch: 1 in pure compression, near 0 in pure shear or rotation (where a
-/// compressive pair velocity still turns the plain viscosity on).
+/// compressive pair velocity still turns the plain viscosity on) and in axisymmetric
+/// volume-preserving flow.
 #[test]
 fn balsara_switch_tells_compression_from_shear() {
     use blastsph_solver::physics::balsara_factor;
@@ -142,9 +143,14 @@ fn balsara_switch_tells_compression_from_shear() {
     let compression = Matrix2::new(-1.0, 0.0, 0.0, -1.0);
     let shear = Matrix2::new(0.0, 1.0, 0.0, 0.0);
     let rotation = Matrix2::new(0.0, -1.0, 1.0, 0.0);
-    assert!((balsara_factor(&compression, 1.0, 1.0) - 1.0).abs() < 1e-3);
-    assert!(balsara_factor(&shear, 1.0, 1.0) < 1e-3);
-    assert!(balsara_factor(&rotation, 1.0, 1.0) < 1e-3);
+    assert!((balsara_factor(&compression, 0.0, 1.0, 1.0) - 1.0).abs() < 1e-3);
+    assert!(balsara_factor(&shear, 0.0, 1.0, 1.0) < 1e-3);
+    assert!(balsara_factor(&rotation, 0.0, 1.0, 1.0) < 1e-3);
+    // axisymmetric upsetting v_r = r/2, v_z = −z: volume-preserving once the hoop rate
+    // v_r/r = 1/2 joins the planar trace −1/2
+    let upsetting = Matrix2::new(0.5, 0.0, 0.0, -1.0);
+    assert!(balsara_factor(&upsetting, 0.5, 1.0, 1.0) < 1e-3);
+    assert!(balsara_factor(&upsetting, 0.0, 1.0, 1.0) > 0.3);
 }
 
 /// The tensile instability and Monaghan's artificial stress: an elastic body in uniform

@@ -186,6 +186,14 @@ impl Library {
                     get("hardening")?,
                 )?)
             }
+            "elastic" => {
+                let (shear, bulk) = Strength::elastic_moduli(get("young")?, get("poisson")?)?;
+                let rho0 = get("rho0")?;
+                // the linear bulk response, as for "elastic-plastic"
+                let eos =
+                    MieGruneisen::linear(rho0, (bulk / rho0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY)?;
+                Material::new(name, eos).with_strength(Strength::elastic(shear)?)
+            }
             "compaction" => Material::new(
                 name,
                 Compaction::new(

@@ -225,6 +225,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let exact = Exact::new(&*material_a.eos, &*material_b.eos, (rho_a, rho_b), v, layer)?;
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
+        axisymmetric: false,
         geometry: Geometry::Planar,
         kernel: KernelShape::CubicSpline,
         // continuity density keeps the density jump at the interface sharp (see

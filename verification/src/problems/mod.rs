@@ -1,6 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
+mod colliding_rings;
 mod density_ratio_tube;
 mod elastic_wave;
 mod impedance_mismatch;
@@ -31,7 +32,8 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(density_ratio_tube::info());
     list.push(tnt_slab::info());
     list.push(elastic_wave::info());
-    list.push(taylor_bar::info());
+    list.push(colliding_rings::info());
+    list.extend(taylor_bar::infos());
     list
 }
 
@@ -62,8 +64,10 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
-    } else if name == taylor_bar::NAME {
-        taylor_bar::run(&params, level, progress)?
+    } else if name == colliding_rings::NAME {
+        colliding_rings::run(&params, progress)?
+    } else if taylor_bar::NAMES.contains(&name) {
+        taylor_bar::run(name, &params, level, progress)?
     } else if name == elastic_wave::NAME {
         elastic_wave::run(&params, progress)?
     } else if name == tnt_slab::NAME {

@@ -167,6 +167,7 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
     let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
     let exact = SedovBlast::new(v.blast_geometry, gamma, energy, rho0, t_end)?;
     let config = SimulationConfig {
+        axisymmetric: false,
         geometry: if v.name == "sedov-spherical-1d" {
             Geometry::Spherical
         } else {

@@ -155,6 +155,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
     let t_end = params.number("t_end", 1e-9, 10.0)?;
     let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
     let config = SimulationConfig {
+        axisymmetric: false,
         geometry: Geometry::Planar,
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
         density: params.choice("density", &DensityMethod::ALL, DensityMethod::name)?,

@@ -184,6 +184,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let length = params.number("length", 1e-4, 10.0)?;
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
+        axisymmetric: false,
         geometry: Geometry::Planar,
         kernel: KernelShape::CubicSpline,
         density: DensityMethod::Continuity,

@@ -1,0 +1,209 @@
+//! Axisymmetric (r, z) SPH: a column in uniform stress stays at rest (the ring fluxes' planar
+//! gradient cancels the hoop force, right up to the axis), a homologous radial expansion gets
+//! the cylindrical rates, and the scheme conserves energy and axial momentum.
+
+use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::{
+    ArtificialViscosity, Boundary, DensityMethod, Domain, Material, MieGruneisen, Simulation,
+    SimulationConfig, SmoothingLength, Strength, Vector,
+};
+use std::f64::consts::PI;
+
+const RHO0: f64 = 8930.0;
+
+/// Copper with a linear bulk response and the benchmark's elastic moduli.
+fn copper(yield_stress: f64) -> Material {
+    let (g, k) = Strength::elastic_moduli(117e9, 0.35).unwrap();
+    let eos = MieGruneisen::linear(RHO0, (k / RHO0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY).unwrap();
+    Material::new("copper", eos).with_strength(Strength::new(g, yield_stress, 0.0).unwrap())
+}
+
+fn config() -> SimulationConfig {
+    SimulationConfig {
+        axisymmetric: true,
+        density: DensityMethod::Continuity,
+        smoothing: SmoothingLength::Fixed,
+        viscosity: ArtificialViscosity::default(),
+        ..SimulationConfig::default()
+    }
+}
+
+/// Rings on an n_r × n_z lattice of spacing dx filling r < n_r dx, periodic in z, with a wall
+/// at the axis and at the outer radius; density ρ, velocity from `velocity(r, z)`.
+fn column(
+    n_r: usize,
+    n_z: usize,
+    density: f64,
+    velocity: impl Fn(f64, f64) -> Vector<2>,
+) -> (Vec<ParticleInit<2>>, Domain<2>) {
+    let dx = 1e-3;
+    let mut init = Vec::new();
+    for k in 0..n_z {
+        for i in 0..n_r {
+            let (r, z) = ((i as f64 + 0.5) * dx, (k as f64 + 0.5) * dx);
+            init.push(ParticleInit {
+                position: Vector::<2>::new(r, z),
+                velocity: velocity(r, z),
+                mass: density * 2.0 * PI * r * dx * dx,
+                smoothing_length: 1.2 * dx,
+                density,
+                internal_energy: 0.0,
+                material: 0,
+            });
+        }
+    }
+    let domain = Domain::with_sides(
+        Vector::<2>::zeros(),
+        Vector::<2>::new(n_r as f64 * dx, n_z as f64 * dx),
+        [Boundary::Wall, Boundary::Periodic],
+        [Boundary::Wall, Boundary::Periodic],
+    )
+    .unwrap();
+    (init, domain)
+}
+
+/// Copper compressed by 1 % (p ≈ 1.4 GPa) at rest: every ring's acceleration, the first rows
+/// at the axis and the last at the outer wall included, is below 1e-9 of the hoop term
+/// p/(ρ r) it must cancel (round-off: the hoop force carries the same discrete ∂r/∂r as the
+/// planar gradient of the ring flux 2πr p, and the mirrored lattice is symmetric about every
+/// particle).
+#[test]
+fn uniform_pressure_stays_at_rest() {
+    let (init, domain) = column(12, 8, 1.01 * RHO0, |_, _| Vector::zeros());
+    let sim = Simulation::new(&init, vec![copper(400e6)], domain, config()).unwrap();
+    let p = sim.particles();
+    for i in 0..p.n_real() {
+        let hoop = p.pressure[i] / (p.density[i] * p.position[i][0]);
+        let a = p.acceleration[i].norm();
+        assert!(a < 1e-9 * hoop, "ring at r = {}: |a| = {a:e}, hoop term {hoop:e}", p.position[i][0]);
+    }
+}
+
+/// v_r = a r, v_z = 0: ε̇_rr = ε̇_θθ = a, so Dρ/Dt = −2aρ and the deviatoric stress rate is
+/// 2G(a/3, −2a/3) on (rr, zz). From the third ring off the axis out to the interior (away from
+/// the outer wall, whose mirror cannot follow the expansion) within 1.5 %: every rate here is a
+/// planar kernel-gradient sum of a linear field, which the cubic spline at η = 1.2 gets about
+/// 1 % short (the same bias as the 2D elastic wave's speed, issue 4 note). The first two rings
+/// carry the even axis images' kink in their hoop rate (see solver::axisymmetric), measured:
+/// 2.3 % at the second ring (limit 3 %), 27 % at the first (its density rate between 0.6 and
+/// 0.9 of the exact).
+#[test]
+fn homologous_expansion_has_the_cylindrical_rates() {
+    let a = 100.0;
+    let dx = 1e-3;
+    let (init, domain) = column(16, 8, RHO0, |r, _| Vector::<2>::new(a * r, 0.0));
+    let sim = Simulation::new(&init, vec![copper(400e9)], domain, config()).unwrap();
+    let p = sim.particles();
+    let g = copper(400e9).strength.unwrap().shear_modulus;
+    for i in 0..p.n_real() {
+        let r = p.position[i][0];
+        let rho_rate = p.density_rate[i] / (-2.0 * a * p.density[i]);
+        if r < dx {
+            assert!(
+                (0.6..0.9).contains(&rho_rate),
+                "first ring density rate {rho_rate} of the exact"
+            );
+            continue;
+        }
+        if r > 12.0 * dx {
+            continue;
+        }
+        let limit = if r < 2.0 * dx { 3e-2 } else { 1.5e-2 };
+        let s_rate = p.stress_rate[i];
+        let rr = s_rate[(0, 0)] / (2.0 * g * a / 3.0);
+        let zz = s_rate[(1, 1)] / (-4.0 * g * a / 3.0);
+        for (what, ratio) in [("density rate", rho_rate), ("s_rr rate", rr), ("s_zz rate", zz)] {
+            assert!(
+                (ratio - 1.0).abs() < limit,
+                "{what} at r = {r}: {ratio} of the exact"
+            );
+        }
+    }
+}
+
+fn noise(k: usize, salt: u64) -> f64 {
+    let mut z = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    2.0 * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 1.0
+}
+
+fn energy_and_axial_momentum(sim: &Simulation<2>) -> (f64, f64) {
+    let p = sim.particles();
+    let (mut energy, mut momentum) = (0.0, 0.0);
+    for i in 0..p.n_real() {
+        energy += p.mass[i] * (0.5 * p.velocity[i].norm_squared() + p.internal_energy[i]);
+        momentum += p.mass[i] * p.velocity[i][1];
+    }
+    (energy, momentum)
+}
+
+/// A jostled copper column (random 20 m/s velocities; elastic, and plastic at a 20 MPa yield)
+/// with a free outer surface: axial momentum to round-off (the axis images are even, so their
+/// pair forces cancel in z like a wall's), and a total-energy error that is the time
+/// integration's: it falls at second order as Δt halves (ratio ≥ 3.5 of the ideal 4).
+#[test]
+fn jostled_column_conserves_energy_and_axial_momentum() {
+    for yield_stress in [10e9, 20e6] {
+        let mut errors = Vec::new();
+        for refinement in [1usize, 2] {
+            let (init, mut domain) = column(12, 12, RHO0, |r, z| {
+                let k = (r * 1e7) as usize * 7919 + (z * 1e7) as usize;
+                Vector::<2>::new(20.0 * noise(k, 3), 20.0 * noise(k, 4))
+            });
+            domain.upper[0] = Boundary::Open;
+            let mut sim =
+                Simulation::new(&init, vec![copper(yield_stress)], domain, config()).unwrap();
+            let (e0, m0) = energy_and_axial_momentum(&sim);
+            let scale: f64 = init.iter().map(|p| p.mass * p.velocity.norm()).sum();
+            let kinetic0: f64 = init
+                .iter()
+                .map(|p| 0.5 * p.mass * p.velocity.norm_squared())
+                .sum();
+            let dt = 2e-8 / refinement as f64;
+            for _ in 0..(100 * refinement) {
+                sim.step(dt).unwrap();
+            }
+            let (e1, m1) = energy_and_axial_momentum(&sim);
+            assert!((m1 - m0).abs() < 1e-12 * scale, "axial momentum {m0} → {m1}");
+            errors.push((e1 - e0).abs() / kinetic0);
+        }
+        assert!(errors[0] / errors[1] > 3.5, "energy errors {errors:?}");
+    }
+}
+
+/// An axisymmetric scene needs continuity density, 2D, a wall on the axis and r > 0: each
+/// refused by name.
+#[test]
+fn bad_axisymmetric_scenes_are_refused_by_name() {
+    let refuse = |init: &[ParticleInit<2>], domain: Domain<2>, config: SimulationConfig| {
+        Simulation::new(init, vec![copper(400e6)], domain, config)
+            .unwrap_err()
+            .to_string()
+    };
+    let (init, domain) = column(4, 4, RHO0, |_, _| Vector::zeros());
+    let summation = SimulationConfig {
+        density: DensityMethod::Summation,
+        ..config()
+    };
+    assert!(refuse(&init, domain, summation).contains("density"));
+    let mut open_axis = domain;
+    open_axis.lower[0] = Boundary::Open;
+    assert!(refuse(&init, open_axis, config()).contains("axis"));
+    let mut on_axis = init.clone();
+    on_axis[0].position[0] = 0.0;
+    assert!(refuse(&on_axis, domain, config()).contains("radius"));
+    let init_3d = vec![ParticleInit::<3> {
+        position: Vector::<3>::new(1e-3, 1e-3, 1e-3),
+        velocity: Vector::zeros(),
+        mass: 1e-6,
+        smoothing_length: 1e-3,
+        density: RHO0,
+        internal_energy: 0.0,
+        material: 0,
+    }];
+    let err = Simulation::new(&init_3d, vec![copper(400e6)], Domain::open(), config())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("axisymmetric"), "{err}");
+}
