@@ -325,7 +325,7 @@ fn impedance_rejects_bad_input_by_name() {
 
 /// `--vtk` writes the final particles as a VTK unstructured grid that an independent reader
 /// (the vtkio crate) parses: one point per particle, the promised point arrays with one value
-/// (or vector) per point, and for a solid the stress and status fields.
+/// (or vector) per point, and for a solid the stress, status and temperature-rise fields.
 #[test]
 fn verify_vtk_writes_a_readable_unstructured_grid() {
     use vtkio::model::{Attribute, DataSet, VertexNumbers};
@@ -372,6 +372,7 @@ fn verify_vtk_writes_a_readable_unstructured_grid() {
         "von_mises",
         "plastic_strain",
         "status",
+        "temperature_rise",
     ] {
         assert!(
             names.iter().any(|n| n == expected),

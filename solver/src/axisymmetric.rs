@@ -98,7 +98,11 @@ pub fn radius_gradients<const D: usize>(
                 }
                 let h = 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]);
                 let area = p.mass[j] / (p.density[j] * geometry.scales(p, j).0);
-                sum - area * kernel.derivative(r, h) * (p.position[i][0] - p.position[j][0].abs()) * dx[0] / r
+                sum - area
+                    * kernel.derivative(r, h)
+                    * (p.position[i][0] - p.position[j][0].abs())
+                    * dx[0]
+                    / r
             })
         })
         .collect()

@@ -33,7 +33,7 @@ pub use physics::{
 };
 pub use radial::Geometry;
 pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
-pub use strength::{JohnsonCook, Strength, YieldState};
+pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

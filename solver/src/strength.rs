@@ -86,6 +86,17 @@ pub struct YieldState {
 pub struct Strength {
     pub shear_modulus: f64,
     pub surface: YieldSurface,
+    /// How plastic work heats the material, for the temperature-rise output (Johnson–Cook
+    /// carries its own).
+    pub heating: Option<PlasticHeating>,
+}
+
+/// The share of plastic work that becomes heat, χ (Taylor & Quinney 1934: about 0.9 for
+/// metals), and the specific heat c (J/(kg K)): ΔT = χ w_p / c.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlasticHeating {
+    pub specific_heat: f64,
+    pub taylor_quinney: f64,
 }
 
 impl Strength {
@@ -105,6 +116,7 @@ impl Strength {
             ));
         }
         Ok(Self {
+            heating: None,
             shear_modulus,
             surface: YieldSurface::VonMises {
                 yield_stress,
@@ -118,12 +130,49 @@ impl Strength {
     pub fn elastic(shear_modulus: f64) -> Result<Self, SolverError> {
         positive("shear modulus", shear_modulus)?;
         Ok(Self {
+            heating: None,
             shear_modulus,
             surface: YieldSurface::VonMises {
                 yield_stress: f64::INFINITY,
                 hardening_modulus: 0.0,
             },
         })
+    }
+
+    /// The same strength with plastic heating: specific heat c > 0 (J/(kg K)) and
+    /// Taylor–Quinney share χ in [0, 1].
+    pub fn with_heating(
+        self,
+        specific_heat: f64,
+        taylor_quinney: f64,
+    ) -> Result<Self, SolverError> {
+        positive("specific heat", specific_heat)?;
+        if !(0.0..=1.0).contains(&taylor_quinney) {
+            return Err(SolverError::invalid(
+                "Taylor-Quinney coefficient",
+                taylor_quinney,
+                "0 ≤ χ ≤ 1",
+            ));
+        }
+        Ok(Self {
+            heating: Some(PlasticHeating {
+                specific_heat,
+                taylor_quinney,
+            }),
+            ..self
+        })
+    }
+
+    /// The temperature rise χ w_p / c after plastic work w_p per unit mass, where the material
+    /// knows its heating (Johnson–Cook always does).
+    pub fn temperature_rise(&self, plastic_work: f64) -> Option<f64> {
+        match (&self.surface, &self.heating) {
+            (YieldSurface::JohnsonCook(jc), _) => {
+                Some(jc.temperature(plastic_work) - jc.room_temperature)
+            }
+            (_, Some(h)) => Some(h.taylor_quinney * plastic_work / h.specific_heat),
+            _ => None,
+        }
     }
 
     /// Drucker–Prager / Mohr–Coulomb for soil: cohesion c ≥ 0 (Pa), friction angle φ in degrees
@@ -166,6 +215,7 @@ impl Strength {
             ));
         }
         Ok(Self {
+            heating: None,
             shear_modulus,
             surface: YieldSurface::DruckerPrager {
                 cohesion,
@@ -208,6 +258,7 @@ impl Strength {
             ));
         }
         Ok(Self {
+            heating: None,
             shear_modulus,
             surface: YieldSurface::JohnsonCook(jc),
         })
@@ -381,6 +432,20 @@ mod tests {
     }
 
     /// A rigid rotation (no strain) leaves σ_eq unchanged: the Jaumann rate of a spin is
+
+    /// ΔT = χ w_p / c: 1 MJ/kg of plastic work heats copper (c = 383, χ = 0.9) by 2350 K;
+    /// without heating data no temperature; bad heating data named.
+    #[test]
+    fn plastic_work_heats_by_the_taylor_quinney_share() {
+        let heated = copper().with_heating(383.0, 0.9).unwrap();
+        let rise = heated.temperature_rise(1e6).unwrap();
+        assert!((rise - 0.9e6 / 383.0).abs() < 1e-9);
+        assert!(copper().temperature_rise(1e6).is_none());
+        let err = copper().with_heating(383.0, 1.5).unwrap_err().to_string();
+        assert!(err.contains("Taylor-Quinney"), "{err}");
+        let err = copper().with_heating(0.0, 0.9).unwrap_err().to_string();
+        assert!(err.contains("specific heat"), "{err}");
+    }
 
     /// Axisymmetric (r, z): the 2D block with the hoop rate as the out-of-plane normal gives
     /// the same stress rate and equivalent strain rate as the full 3D tensor diag-extended by

@@ -75,7 +75,11 @@ fn uniform_pressure_stays_at_rest() {
     for i in 0..p.n_real() {
         let hoop = p.pressure[i] / (p.density[i] * p.position[i][0]);
         let a = p.acceleration[i].norm();
-        assert!(a < 1e-9 * hoop, "ring at r = {}: |a| = {a:e}, hoop term {hoop:e}", p.position[i][0]);
+        assert!(
+            a < 1e-9 * hoop,
+            "ring at r = {}: |a| = {a:e}, hoop term {hoop:e}",
+            p.position[i][0]
+        );
     }
 }
 
@@ -112,7 +116,11 @@ fn homologous_expansion_has_the_cylindrical_rates() {
         let s_rate = p.stress_rate[i];
         let rr = s_rate[(0, 0)] / (2.0 * g * a / 3.0);
         let zz = s_rate[(1, 1)] / (-4.0 * g * a / 3.0);
-        for (what, ratio) in [("density rate", rho_rate), ("s_rr rate", rr), ("s_zz rate", zz)] {
+        for (what, ratio) in [
+            ("density rate", rho_rate),
+            ("s_rr rate", rr),
+            ("s_zz rate", zz),
+        ] {
             assert!(
                 (ratio - 1.0).abs() < limit,
                 "{what} at r = {r}: {ratio} of the exact"
@@ -165,7 +173,10 @@ fn jostled_column_conserves_energy_and_axial_momentum() {
                 sim.step(dt).unwrap();
             }
             let (e1, m1) = energy_and_axial_momentum(&sim);
-            assert!((m1 - m0).abs() < 1e-12 * scale, "axial momentum {m0} → {m1}");
+            assert!(
+                (m1 - m0).abs() < 1e-12 * scale,
+                "axial momentum {m0} → {m1}"
+            );
             errors.push((e1 - e0).abs() / kinetic0);
         }
         assert!(errors[0] / errors[1] > 3.5, "energy errors {errors:?}");

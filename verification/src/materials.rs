@@ -180,11 +180,13 @@ impl Library {
                 // Grüneisen term (the benchmark is isothermal elasticity)
                 let eos =
                     MieGruneisen::linear(rho0, (bulk / rho0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY)?;
-                Material::new(name, eos).with_strength(Strength::new(
-                    shear,
-                    get("yield")?,
-                    get("hardening")?,
-                )?)
+                let mut strength = Strength::new(shear, get("yield")?, get("hardening")?)?;
+                // optional: the plastic heating behind the temperature-rise output
+                if entry.parameters.contains_key("specific_heat") {
+                    strength =
+                        strength.with_heating(get("specific_heat")?, get("taylor_quinney")?)?;
+                }
+                Material::new(name, eos).with_strength(strength)
             }
             "elastic" => {
                 let (shear, bulk) = Strength::elastic_moduli(get("young")?, get("poisson")?)?;

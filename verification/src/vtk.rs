@@ -41,7 +41,8 @@ fn padded<const D: usize>(v: &blastsph_solver::Vector<D>) -> [f64; 3] {
 impl Snapshot {
     /// Position, velocity, density, pressure, specific internal energy and material of every
     /// real particle; for solids also von Mises stress, equivalent plastic strain, plastic work
-    /// per unit mass and status (0 elastic, 1 plastic, 2 failed).
+    /// per unit mass, status (0 elastic, 1 plastic, 2 failed) and, where a material knows its
+    /// plastic heating, the temperature rise.
     pub fn of<const D: usize>(sim: &Simulation<D>) -> Self {
         let p = sim.particles();
         let n = p.n_real();
@@ -63,6 +64,17 @@ impl Snapshot {
             scalars.push(("plastic_strain".to_string(), p.plastic_strain.clone()));
             scalars.push(("plastic_work".to_string(), p.plastic_work.clone()));
             scalars.push(("status".to_string(), field(&|i| status_code(sim, i))));
+            let rise = |i: usize| {
+                let strength = sim.materials()[p.material_of(i)].strength?;
+                strength.temperature_rise(p.plastic_work[i])
+            };
+            if (0..n).any(|i| rise(i).is_some()) {
+                // K; 0 where a material does not know its heating
+                scalars.push((
+                    "temperature_rise".to_string(),
+                    field(&|i| rise(i).unwrap_or(0.0)),
+                ));
+            }
         }
         Self {
             time: sim.time(),

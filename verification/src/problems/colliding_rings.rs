@@ -40,12 +40,7 @@ pub fn info() -> super::ProblemInfo {
         params: vec![
             // 5 and 10 particles through the ring's 1 cm wall; Gray, Monaghan & Swift used
             // 0.5 mm (20), 16 times the work of 1 mm
-            ParamSpec::per_level(
-                "spacing",
-                2e-3,
-                1e-3,
-                "lattice spacing Δp (m)",
-            ),
+            ParamSpec::per_level("spacing", 2e-3, 1e-3, "lattice spacing Δp (m)"),
             // the rings touch at 4 µs, are flattened most at about 120 µs and apart by 400 µs
             ParamSpec::new("t_end", 4e-4, "end time (s)"),
             ParamSpec::new("cfl", 0.3, "Courant number C"),
@@ -225,7 +220,10 @@ fn run_one(
         (momentum[1][0] / mass[1]) / speed,
     );
     m.insert("kinetic_energy_fraction".into(), kinetic / energy0);
-    m.insert("gap_over_spacing".into(), (right_edge - left_edge) / spacing);
+    m.insert(
+        "gap_over_spacing".into(),
+        (right_edge - left_edge) / spacing,
+    );
     m.insert("widest_nearest_neighbour_over_spacing".into(), widest);
     m.insert("closest_nearest_neighbour_over_spacing".into(), closest);
     m.insert(
@@ -270,25 +268,15 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         }),
         ..base
     };
-    let held = run_one(
-        spacing,
-        (t_end, cfl, with),
-        "artificial stress",
-        &|f| progress(0.5 * f),
-    )?;
-    let free = run_one(
-        spacing,
-        (t_end, cfl, base),
-        "no artificial stress",
-        &|f| progress(0.5 + 0.5 * f),
-    )?;
+    let held = run_one(spacing, (t_end, cfl, with), "artificial stress", &|f| {
+        progress(0.5 * f)
+    })?;
+    let free = run_one(spacing, (t_end, cfl, base), "no artificial stress", &|f| {
+        progress(0.5 + 0.5 * f)
+    })?;
     let metric = |m: &Measured, key: &str| m.run.metrics.get(key).copied().unwrap_or(f64::NAN);
     let checks = vec![
-        Check::at_least(
-            "completed",
-            f64::from(held.run.failure.is_none()),
-            1.0,
-        ),
+        Check::at_least("completed", f64::from(held.run.failure.is_none()), 1.0),
         // bounced: both rings move apart at the end (the sign of their velocity reversed)
         Check::at_least(
             "rebound_velocity_ratio",
@@ -366,7 +354,14 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
     let snapshot = held.snapshot.clone();
     let runs = vec![held.run, free.run];
     Ok(ProblemOutput {
-        record: Record::new(NAME, crate::Level::Quick, runs, Default::default(), checks, 0),
+        record: Record::new(
+            NAME,
+            crate::Level::Quick,
+            runs,
+            Default::default(),
+            checks,
+            0,
+        ),
         profile: table,
         figure,
         snapshot,
