@@ -11,6 +11,7 @@
 pub mod axisymmetric;
 pub mod boundary;
 pub mod burn;
+pub mod dem;
 pub mod eos;
 pub mod error;
 pub mod kernel;

@@ -1,0 +1,234 @@
+//! The force of a pendular liquid bridge between two spheres, in closed forms that a DEM step
+//! can afford (the exact Laplace–Young solution that they approximate lives in the verification
+//! crate). Symbols: radii R1, R2 and their Derjaguin (harmonic-mean) radius R = 2R1R2/(R1+R2);
+//! surface gap S ≥ 0; bridge volume V, V* = V/R³; surface tension γ; contact angle θ (radians).
+//! Every law returns the attractive force magnitude (N). A bridge only exists between its
+//! formation at contact and its rupture gap ([`rupture_gap`]); at overlap (S < 0) the laws
+//! give their value at S = 0: the liquid adds no force for being squeezed.
+
+use crate::error::SolverError;
+use std::f64::consts::PI;
+
+/// Which closed form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BridgeLaw {
+    /// Willett, Adams, Johnson & Seville (2000, Langmuir 16, 9396), their fitted expression
+    /// (eqs. 10–11 with the coefficient table): ln F* = f1 − f2 exp(f3 ln S⁺ + f4 ln² S⁺),
+    /// F* = F/(2πγR), S⁺ = (S/2)√(R/V), the f_k polynomials in ln V* and θ. The default.
+    WillettFitted,
+    /// Willett et al.'s simple form F = 2πγR cos θ / (1 + 2.1 S⁺ + 10 S⁺²).
+    WillettSimple,
+    /// Rabinovich et al. (2005, Langmuir 21, 10992): F = 2πγR cos θ/(1 + S/(2d))
+    /// + 2πγR sin α sin(θ + α), d = (S/2)(√(1 + 2V/(πRS²)) − 1) the immersion depth,
+    /// α² = 2d/R the half-filling angle.
+    Rabinovich,
+    /// The toroidal (circular-meridian) bridge with the gorge force (Lian, Thornton & Adams
+    /// 1993): equal spheres of radius R, the filling angle β solved from the volume.
+    Toroidal,
+}
+
+impl BridgeLaw {
+    pub const ALL: [BridgeLaw; 4] = [
+        BridgeLaw::WillettFitted,
+        BridgeLaw::WillettSimple,
+        BridgeLaw::Rabinovich,
+        BridgeLaw::Toroidal,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            BridgeLaw::WillettFitted => "willett",
+            BridgeLaw::WillettSimple => "simple",
+            BridgeLaw::Rabinovich => "rabinovich",
+            BridgeLaw::Toroidal => "toroidal",
+        }
+    }
+
+    pub fn named(name: &str) -> Option<BridgeLaw> {
+        BridgeLaw::ALL.into_iter().find(|law| law.name() == name)
+    }
+}
+
+/// Where a stretched bridge breaks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RuptureCriterion {
+    /// Lian, Thornton & Adams (1993): S_c = (1 + θ/2) V^{1/3}. The default.
+    Lian,
+    /// Willett et al. (2000, eq. 15): S_c = (1 + θ/2)(V*^{1/3} + 0.1 V*^{2/3}) R.
+    Willett,
+}
+
+/// One bridge's liquid and wetting: volume V (m³), surface tension γ (N/m), contact angle θ
+/// (rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Liquid {
+    pub volume: f64,
+    pub surface_tension: f64,
+    pub contact_angle: f64,
+}
+
+impl Liquid {
+    /// Water at 20 °C (γ = 0.0728 N/m) with volume V and contact angle θ.
+    pub fn water(volume: f64, contact_angle: f64) -> Result<Self, SolverError> {
+        let liquid = Self {
+            volume,
+            surface_tension: 0.0728,
+            contact_angle,
+        };
+        liquid.validate()?;
+        Ok(liquid)
+    }
+
+    pub fn validate(&self) -> Result<(), SolverError> {
+        if !(self.volume > 0.0 && self.volume.is_finite()) {
+            return Err(SolverError::invalid(
+                "bridge volume",
+                self.volume,
+                "finite and > 0 (m³)",
+            ));
+        }
+        if !(self.surface_tension > 0.0 && self.surface_tension.is_finite()) {
+            return Err(SolverError::invalid(
+                "surface tension",
+                self.surface_tension,
+                "finite and > 0 (N/m)",
+            ));
+        }
+        if !(0.0..PI / 2.0).contains(&self.contact_angle) {
+            return Err(SolverError::invalid(
+                "contact angle",
+                self.contact_angle.to_degrees(),
+                "0 ≤ θ < 90° (a wetting liquid)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The Derjaguin radius 2R1R2/(R1 + R2) of two spheres (R for equal ones).
+pub fn effective_radius(r1: f64, r2: f64) -> f64 {
+    2.0 * r1 * r2 / (r1 + r2)
+}
+
+/// The gap at which a bridge of this liquid between spheres of effective radius R breaks.
+pub fn rupture_gap(criterion: RuptureCriterion, liquid: &Liquid, radius: f64) -> f64 {
+    let wetting = 1.0 + 0.5 * liquid.contact_angle;
+    match criterion {
+        RuptureCriterion::Lian => wetting * liquid.volume.cbrt(),
+        RuptureCriterion::Willett => {
+            let v = liquid.volume / radius.powi(3);
+            wetting * (v.cbrt() + 0.1 * v.powf(2.0 / 3.0)) * radius
+        }
+    }
+}
+
+/// The attractive force (N) of the bridge at surface gap `gap` (m) between spheres of effective
+/// radius `radius` (m); a gap below zero counts as zero.
+pub fn bridge_force(law: BridgeLaw, liquid: &Liquid, radius: f64, gap: f64) -> f64 {
+    let s = gap.max(0.0);
+    let (v, gamma, theta) = (liquid.volume, liquid.surface_tension, liquid.contact_angle);
+    let scale = 2.0 * PI * gamma * radius;
+    match law {
+        BridgeLaw::WillettFitted => scale * willett_fitted(v / radius.powi(3), theta, s / radius),
+        BridgeLaw::WillettSimple => {
+            let s_plus = 0.5 * s * (radius / v).sqrt();
+            scale * theta.cos() / (1.0 + 2.1 * s_plus + 10.0 * s_plus * s_plus)
+        }
+        BridgeLaw::Rabinovich => {
+            // the S → 0 limits: d → √(V/(2πR)), so S/(2d) → 0 and α² → 2d/R
+            let depth = if s > 0.0 {
+                0.5 * s * ((1.0 + 2.0 * v / (PI * radius * s * s)).sqrt() - 1.0)
+            } else {
+                (v / (2.0 * PI * radius)).sqrt()
+            };
+            let alpha = (2.0 * depth / radius).sqrt();
+            scale * (theta.cos() / (1.0 + s / (2.0 * depth)) + alpha.sin() * (theta + alpha).sin())
+        }
+        BridgeLaw::Toroidal => {
+            let (neck, meridian) = toroidal_shape(v, theta, radius, s);
+            PI * gamma * neck * (1.0 + neck / meridian)
+        }
+    }
+}
+
+/// Willett et al.'s fitted F* = F/(2πγR) at V* = V/R³, θ (rad) and S* = S/R (their
+/// Table/eq. 11, natural logarithms; F* = exp(f1) at contact).
+fn willett_fitted(v: f64, theta: f64, s: f64) -> f64 {
+    let l = v.ln();
+    let t2 = theta * theta;
+    let poly = |c: [[f64; 3]; 4]| {
+        c.iter()
+            .enumerate()
+            .map(|(k, row)| (row[0] + row[1] * theta + row[2] * t2) * l.powi(k as i32))
+            .sum::<f64>()
+    };
+    let f1 = poly([
+        [-0.44507, 0.050832, -1.1466],
+        [-0.1119, -0.000411, -0.1490],
+        [-0.012101, -0.0036456, -0.01255],
+        [-0.0005, -0.0003505, -0.00029076],
+    ]);
+    if s <= 0.0 {
+        return f1.exp();
+    }
+    let f2 = poly([
+        [1.9222, -0.57473, -1.2918],
+        [-0.0668, -0.1201, -0.22574],
+        [-0.0013375, -0.0068988, -0.01137],
+        [0.0, 0.0, 0.0],
+    ]);
+    let f3 = poly([
+        [1.268, -0.01396, -0.23566],
+        [0.198, 0.092, -0.06418],
+        [0.02232, 0.02238, -0.009853],
+        [0.0008585, 0.001318, -0.00053],
+    ]);
+    let f4 = poly([
+        [-0.010703, 0.073776, -0.34742],
+        [0.03345, 0.04543, -0.09056],
+        [0.0018574, 0.004456, -0.006257],
+        [0.0, 0.0, 0.0],
+    ]);
+    let ln_s = (0.5 * s / v.sqrt()).ln(); // S⁺ = (S/2)√(R/V) = (S*/2)/√V*
+    (f1 - f2 * (f3 * ln_s + f4 * ln_s * ln_s).exp()).exp()
+}
+
+/// The toroidal bridge between equal spheres of radius R at gap S: the filling angle β whose
+/// circular-meridian bridge holds volume V (bisection; the volume grows with β), and its
+/// neck radius ρ2 and meridian radius ρ1. Geometry: the meridian arc of radius ρ1 centred on
+/// the midplane at height c = ρ1 + ρ2 meets the sphere at (R(1 − cos β) + S/2, R sin β) at
+/// contact angle θ, so ρ1 cos(β + θ) = R(1 − cos β) + S/2 and ρ2 = R sin β − ρ1(1 − sin(β+θ));
+/// its volume is the solid of revolution of y = c − √(ρ1² − x²) over |x| ≤ a = ρ1 cos(β+θ)
+/// less the two spherical caps of height R(1 − cos β).
+pub fn toroidal_shape(volume: f64, theta: f64, radius: f64, gap: f64) -> (f64, f64) {
+    let shape = |beta: f64| {
+        let a = radius * (1.0 - beta.cos()) + 0.5 * gap;
+        let rho1 = a / (beta + theta).cos();
+        let rho2 = radius * beta.sin() - rho1 * (1.0 - (beta + theta).sin());
+        (a, rho1, rho2)
+    };
+    let held = |beta: f64| {
+        let (a, rho1, rho2) = shape(beta);
+        let c = rho1 + rho2;
+        let revolution = 2.0
+            * PI
+            * (c * c * a
+                - c * (a * (rho1 * rho1 - a * a).max(0.0).sqrt()
+                    + rho1 * rho1 * (0.5 * PI - beta - theta))
+                + rho1 * rho1 * a
+                - a.powi(3) / 3.0);
+        let cap = radius * (1.0 - beta.cos());
+        revolution - 2.0 * PI * cap * cap * (3.0 * radius - cap) / 3.0
+    };
+    let (mut lo, mut hi) = (0.0, 0.5 * PI - theta);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if held(mid) < volume {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (_, rho1, rho2) = shape(0.5 * (lo + hi));
+    (rho2, rho1)
+}
