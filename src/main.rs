@@ -104,6 +104,11 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Moist soil at grain scale: liquid bridges between grains.
+    Soil {
+        #[command(subcommand)]
+        command: SoilCommand,
+    },
     /// Solve a Riemann problem of the ideal gas exactly and print the star state.
     Riemann {
         /// Left state ρ,u,p (SI).
@@ -114,6 +119,36 @@ enum Command {
         right: String,
         #[arg(long, default_value_t = 1.4)]
         gamma: f64,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Subcommand)]
+enum SoilCommand {
+    /// The force of one pendular liquid bridge between two spheres (SI; θ in degrees).
+    Bridge {
+        /// Sphere radius R1, or R1,R2 for unequal spheres (m).
+        #[arg(long, allow_hyphen_values = true)]
+        radius: String,
+        /// Liquid volume of the bridge (m³).
+        #[arg(long)]
+        volume: f64,
+        /// Surface gap between the spheres (m); an overlap (< 0) counts as contact.
+        #[arg(long, allow_negative_numbers = true)]
+        gap: f64,
+        /// Contact angle (degrees).
+        #[arg(long, default_value_t = 0.0)]
+        theta: f64,
+        /// willett (fitted, the default), simple, rabinovich or toroidal.
+        #[arg(long, default_value = "willett")]
+        law: String,
+        /// Surface tension (N/m); water at 20 °C by default.
+        #[arg(long, default_value_t = 0.0728)]
+        surface_tension: f64,
+        /// Where the bridge breaks: lian ((1 + θ/2) V^(1/3)) or willett.
+        #[arg(long, default_value = "lian")]
+        rupture: String,
         #[arg(long)]
         json: bool,
     },
@@ -162,6 +197,7 @@ fn main() -> ExitCode {
             gamma,
             json,
         } => riemann_command(&left, &right, gamma, json).map(|_| true),
+        Command::Soil { command } => soil_command(command).map(|_| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
@@ -447,6 +483,75 @@ fn riemann_command(left: &str, right: &str, gamma: f64, json: bool) -> Result<()
         println!("u*        = {u_star:.6e}");
         println!("rho*_left = {rho_l:.6e}");
         println!("rho*_right= {rho_r:.6e}");
+    }
+    Ok(())
+}
+
+fn soil_command(command: SoilCommand) -> Result<(), VerifyError> {
+    use blastsph_solver::dem::capillary::{
+        bridge_force, effective_radius, rupture_gap, BridgeLaw, Liquid, RuptureCriterion,
+    };
+    let SoilCommand::Bridge {
+        radius,
+        volume,
+        gap,
+        theta,
+        law,
+        surface_tension,
+        rupture,
+        json,
+    } = command;
+    let radii: Vec<f64> = radius
+        .split(',')
+        .map(|r| r.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .ok()
+        .filter(|r: &Vec<f64>| {
+            (1..=2).contains(&r.len()) && r.iter().all(|&x| x > 0.0 && x.is_finite())
+        })
+        .ok_or_else(|| VerifyError::bad_value("--radius", &radius, "R1 or R1,R2 in m, each > 0"))?;
+    let r = effective_radius(radii[0], *radii.last().expect("one radius"));
+    let named = BridgeLaw::named(&law).ok_or_else(|| {
+        VerifyError::bad_value("--law", &law, "willett, simple, rabinovich or toroidal")
+    })?;
+    let criterion = match rupture.as_str() {
+        "lian" => RuptureCriterion::Lian,
+        "willett" => RuptureCriterion::Willett,
+        _ => {
+            return Err(VerifyError::bad_value(
+                "--rupture",
+                &rupture,
+                "lian or willett",
+            ))
+        }
+    };
+    if !gap.is_finite() {
+        return Err(VerifyError::bad_value("--gap", gap, "a finite gap in m"));
+    }
+    let liquid = Liquid {
+        volume,
+        surface_tension,
+        contact_angle: theta.to_radians(),
+    };
+    liquid.validate()?;
+    let rupture_gap_m = rupture_gap(criterion, &liquid, r);
+    // beyond the rupture distance the bridge has broken and pulls no more
+    let force_n = if gap < rupture_gap_m {
+        bridge_force(named, &liquid, r, gap)
+    } else {
+        0.0
+    };
+    if json {
+        let value = serde_json::json!({
+            "force_n": force_n, "rupture_gap_m": rupture_gap_m, "effective_radius_m": r,
+            "law": named.name(), "bridged": gap < rupture_gap_m,
+        });
+        println!("{}", serde_json::to_string_pretty(&value).expect("json"));
+    } else {
+        println!("law            = {}", named.name());
+        println!("effective R    = {r:.6e} m");
+        println!("force          = {force_n:.6e} N");
+        println!("rupture gap    = {rupture_gap_m:.6e} m");
     }
     Ok(())
 }

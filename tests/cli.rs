@@ -380,3 +380,46 @@ fn verify_vtk_writes_a_readable_unstructured_grid() {
         );
     }
 }
+
+/// `soil bridge --json` prints the force and the rupture gap in SI: Willett's simple law at
+/// contact is exactly 2πγR cos θ; beyond the rupture gap the force is zero; a bad radius or
+/// law is refused with exit code 2, naming the flag.
+#[test]
+fn soil_bridge_prints_force_and_rupture_gap() {
+    let out = blastsph(&[
+        "soil", "bridge", "--radius", "1e-4", "--volume", "1e-14", "--gap", "0", "--law", "simple",
+        "--theta", "20", "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let expected = 2.0 * std::f64::consts::PI * 0.0728 * 1e-4 * 20f64.to_radians().cos();
+    assert!((value["force_n"].as_f64().unwrap() / expected - 1.0).abs() < 1e-12);
+    let rupture = value["rupture_gap_m"].as_f64().unwrap();
+    assert!((rupture / ((1.0 + 0.5 * 20f64.to_radians()) * 1e-14f64.cbrt()) - 1.0).abs() < 1e-12);
+    let beyond = format!("{}", 1.01 * rupture);
+    let out = blastsph(&[
+        "soil",
+        "bridge",
+        "--radius",
+        "1e-4,2e-4",
+        "--volume",
+        "1e-14",
+        "--gap",
+        &beyond,
+        "--theta",
+        "20",
+        "--json",
+    ]);
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["force_n"].as_f64(), Some(0.0));
+    for (flag, args) in [
+        ("--radius", ["--radius", "-1", "--law", "willett"]),
+        ("--law", ["--radius", "1e-4", "--law", "hooke"]),
+    ] {
+        let mut all = vec!["soil", "bridge", "--volume", "1e-14", "--gap", "0"];
+        all.extend(args);
+        let out = blastsph(&all);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(stderr(&out).contains(flag), "{}", stderr(&out));
+    }
+}

@@ -250,3 +250,12 @@ fn colliding_rings_bounce_apart_intact() {
     let out = run("colliding-rings", &[]);
     assert_all_checks_pass(&out);
 }
+
+/// One liquid bridge: Willett's fit within 3 % and the toroidal gorge form within 8 % of the
+/// exact Laplace–Young force up to half the rupture gap; the exact force falls with the gap;
+/// a larger bridge reaches farther and pulls harder once apart.
+#[test]
+fn capillary_pair_passes_its_checks() {
+    let out = run("capillary-pair", &[]);
+    assert_all_checks_pass(&out);
+}

@@ -232,3 +232,88 @@ pub fn toroidal_shape(volume: f64, theta: f64, radius: f64, gap: f64) -> (f64, f
     let (_, rho1, rho2) = shape(0.5 * (lo + hi));
     (rho2, rho1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn water(volume: f64, degrees: f64) -> Liquid {
+        Liquid::water(volume, degrees.to_radians()).unwrap()
+    }
+
+    /// At contact the simple law is exactly 2πγR cos θ, and every law falls with the gap.
+    #[test]
+    fn forces_fall_with_the_gap_from_their_contact_value() {
+        let (r, liquid) = (1e-4, water(1e-14, 20.0));
+        let contact = 2.0 * PI * 0.0728 * r * 20f64.to_radians().cos();
+        let simple = bridge_force(BridgeLaw::WillettSimple, &liquid, r, 0.0);
+        assert!((simple / contact - 1.0).abs() < 1e-12);
+        for law in BridgeLaw::ALL {
+            let mut last = f64::INFINITY;
+            for k in 0..10 {
+                let f = bridge_force(law, &liquid, r, k as f64 * 2e-6);
+                assert!(f > 0.0 && f < last, "{law:?} at gap {k}: {f}");
+                last = f;
+            }
+            // an overlap pulls as contact does
+            let overlap = bridge_force(law, &liquid, r, -1e-6);
+            assert_eq!(overlap, bridge_force(law, &liquid, r, 0.0), "{law:?}");
+        }
+    }
+
+    /// Lian's rupture gap is (1 + θ/2) V^{1/3}; Willett's adds 0.1 V*^{2/3} R (2 % more at
+    /// V* = 0.01); the harmonic-mean radius of equal spheres is their radius.
+    #[test]
+    fn rupture_gaps_and_effective_radius() {
+        let liquid = water(1e-14, 0.0);
+        let lian = rupture_gap(RuptureCriterion::Lian, &liquid, 1e-4);
+        assert!((lian / 1e-14f64.cbrt() - 1.0).abs() < 1e-12);
+        let willett = rupture_gap(RuptureCriterion::Willett, &liquid, 1e-4);
+        assert!((willett / lian - (1.0 + 0.1 * 0.01f64.cbrt())).abs() < 1e-9);
+        assert!((effective_radius(2.0, 2.0) - 2.0).abs() < 1e-15);
+        assert!((effective_radius(1.0, 3.0) - 1.5).abs() < 1e-15);
+    }
+
+    /// The toroidal shape's neck, meridian and filling angle satisfy the contact geometry it
+    /// was built from, and a bigger bridge has a wider neck.
+    #[test]
+    fn toroidal_neck_grows_with_volume() {
+        let (small, _) = toroidal_shape(1e-3, 0.0, 1.0, 0.05);
+        let (large, _) = toroidal_shape(1e-2, 0.0, 1.0, 0.05);
+        assert!(small > 0.0 && large > small, "{small} {large}");
+    }
+
+    /// Bad liquid data is named.
+    #[test]
+    fn bad_liquid_is_named() {
+        for (liquid, field) in [
+            (
+                Liquid {
+                    volume: 0.0,
+                    surface_tension: 0.07,
+                    contact_angle: 0.0,
+                },
+                "volume",
+            ),
+            (
+                Liquid {
+                    volume: 1e-14,
+                    surface_tension: -1.0,
+                    contact_angle: 0.0,
+                },
+                "surface",
+            ),
+            (
+                Liquid {
+                    volume: 1e-14,
+                    surface_tension: 0.07,
+                    contact_angle: 2.0,
+                },
+                "contact angle",
+            ),
+        ] {
+            let err = liquid.validate().unwrap_err().to_string();
+            assert!(err.contains(field), "{err}");
+        }
+    }
+}

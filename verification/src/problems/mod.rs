@@ -1,6 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
+mod capillary_pair;
 mod colliding_rings;
 mod density_ratio_tube;
 mod elastic_wave;
@@ -33,6 +34,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(tnt_slab::info());
     list.push(elastic_wave::info());
     list.push(colliding_rings::info());
+    list.push(capillary_pair::info());
     list.extend(taylor_bar::infos());
     list
 }
@@ -64,6 +66,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if name == capillary_pair::NAME {
+        capillary_pair::run(&params)?
     } else if name == colliding_rings::NAME {
         colliding_rings::run(&params, progress)?
     } else if taylor_bar::NAMES.contains(&name) {
