@@ -431,8 +431,6 @@ mod tests {
         assert!((full_contraction(&s2) - full_contraction(&s3)).abs() < 1e-12);
     }
 
-    /// A rigid rotation (no strain) leaves σ_eq unchanged: the Jaumann rate of a spin is
-
     /// ΔT = χ w_p / c: 1 MJ/kg of plastic work heats copper (c = 383, χ = 0.9) by 2350 K;
     /// without heating data no temperature; bad heating data named.
     #[test]
@@ -466,6 +464,8 @@ mod tests {
         let equivalent = equivalent_strain_rate(&d2, hoop);
         assert!((equivalent - equivalent_strain_rate(&d3, 0.0)).abs() < 1e-12);
     }
+
+    /// A rigid rotation (no strain) leaves σ_eq unchanged: the Jaumann rate of a spin is
     /// tangent to the sphere s:s = const.
     #[test]
     fn a_spin_does_not_change_the_equivalent_stress() {

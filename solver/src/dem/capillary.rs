@@ -18,9 +18,9 @@ pub enum BridgeLaw {
     WillettFitted,
     /// Willett et al.'s simple form F = 2πγR cos θ / (1 + 2.1 S⁺ + 10 S⁺²).
     WillettSimple,
-    /// Rabinovich et al. (2005, Langmuir 21, 10992): F = 2πγR cos θ/(1 + S/(2d))
-    /// + 2πγR sin α sin(θ + α), d = (S/2)(√(1 + 2V/(πRS²)) − 1) the immersion depth,
-    /// α² = 2d/R the half-filling angle.
+    /// Rabinovich et al. (2005, Langmuir 21, 10992): F = 2πγR cos θ/(1 + S/(2d)) plus
+    /// 2πγR sin α sin(θ + α), with the immersion depth d = (S/2)(√(1 + 2V/(πRS²)) − 1) and
+    /// the half-filling angle α, α² = 2d/R.
     Rabinovich,
     /// The toroidal (circular-meridian) bridge with the gorge force (Lian, Thornton & Adams
     /// 1993): equal spheres of radius R, the filling angle β solved from the volume.

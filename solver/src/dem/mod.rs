@@ -1,4 +1,6 @@
-//! Discrete elements for moist sand (issue 5): grains joined by pendular liquid bridges. So far
-//! the bridge force laws ([`capillary`]); the grain dynamics build on them.
+//! Discrete elements for moist sand (issue 5): grains joined by pendular liquid bridges. The
+//! bridge force laws ([`capillary`]) and 2D disc dynamics with contacts, walls and bridges
+//! ([`discs`]).
 
 pub mod capillary;
+pub mod discs;

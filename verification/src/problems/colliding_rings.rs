@@ -129,7 +129,7 @@ fn run_one(
         for j in -half..=half {
             let x = Vector::<2>::new(i as f64 * spacing, j as f64 * spacing);
             let r2 = x.norm_squared();
-            if r2 >= INNER_RADIUS * INNER_RADIUS && r2 < OUTER_RADIUS * OUTER_RADIUS {
+            if (INNER_RADIUS * INNER_RADIUS..OUTER_RADIUS * OUTER_RADIUS).contains(&r2) {
                 ring.push(x);
             }
         }

@@ -1,0 +1,176 @@
+//! 2D discrete elements: binary collisions against the exact linear spring–dashpot solution,
+//! momentum conservation of a jostled assembly, and the life cycle of a liquid bridge.
+
+use blastsph_solver::dem::capillary::{
+    bridge_force, effective_radius, rupture_gap, BridgeLaw, Liquid, RuptureCriterion,
+};
+use blastsph_solver::dem::discs::{ContactModel, Discs, Wetting};
+use blastsph_solver::Vector;
+
+const RADIUS: f64 = 1e-4;
+const DENSITY: f64 = 2650.0;
+
+fn model(damping_ratio: f64) -> ContactModel {
+    ContactModel {
+        normal_stiffness: 1e5,
+        tangential_stiffness: 5e4,
+        friction: 0.5,
+        damping_ratio,
+        local_damping: 0.0,
+    }
+}
+
+/// Two equal discs approaching head on at ±v; returns the restitution coefficient (their
+/// separation speed over the approach speed) once they have parted.
+fn collide(damping_ratio: f64, dt_fraction: f64) -> f64 {
+    let v = 0.1;
+    let positions = vec![
+        Vector::<2>::new(-RADIUS - 1e-7, 0.0),
+        Vector::<2>::new(RADIUS + 1e-7, 0.0),
+    ];
+    let mut discs = Discs::new(
+        positions,
+        vec![RADIUS; 2],
+        DENSITY,
+        model(damping_ratio),
+        None,
+    )
+    .unwrap();
+    discs.velocity[0] = Vector::<2>::new(v, 0.0);
+    discs.velocity[1] = Vector::<2>::new(-v, 0.0);
+    let dt = discs.critical_time_step(dt_fraction);
+    let period = (discs.mass[0] * 0.5 / 1e5).sqrt() * std::f64::consts::PI;
+    while discs.time < 4.0 * period {
+        discs.step(dt).unwrap();
+    }
+    assert_eq!(discs.counts().0, 0, "still touching");
+    (discs.velocity[1][0] - discs.velocity[0][0]) / (2.0 * v)
+}
+
+/// The exact restitution of the linear spring and a dashpot that cannot pull: the overlap
+/// x(t) = (v0/ω_d) e^{−ζωt} sin ω_d t ends as a contact when the force k x + c ẋ reaches zero,
+/// at tan(ω_d t*) = −2ζ√(1 − ζ²)/(1 − 2ζ²) (t* in the second quarter period), and
+/// e = e^{−ζωt*} |cos ω_d t* − ζ/√(1 − ζ²) sin ω_d t*| (Schwager & Pöschel 2007 discuss this
+/// model); ζ = 0 gives 1.
+fn exact_restitution(zeta: f64) -> f64 {
+    let root = (1.0 - zeta * zeta).sqrt();
+    // ω_d t* in (π/2, π]
+    let phase = std::f64::consts::PI + (-2.0 * zeta * root / (1.0 - 2.0 * zeta * zeta)).atan();
+    (-zeta / root * phase).exp() * (phase.cos() - zeta / root * phase.sin()).abs()
+}
+
+/// Elastic (ζ = 0): e = 1 within 1e-3. Damped (ζ = 0.1, 0.3): e within 2ζωΔt of the exact
+/// solution at a tenth, a twentieth and a fortieth of the critical step, ω = √(k/m_eff): the
+/// dashpot's force jumps to c·v0 at first touch, and the touch falls anywhere inside a step, an
+/// impulse error of up to c v0 Δt against the pair's momentum m_eff v0 (measured at ζ = 0.3:
+/// 0.01 %, 1.5 %, 0.13 % where the bound is 8.5 %, 4.2 %, 2.1 %).
+#[test]
+fn binary_collisions_match_the_spring_dashpot_solution() {
+    let elastic = collide(0.0, 0.1);
+    assert!((elastic - 1.0).abs() < 1e-3, "e = {elastic}");
+    for zeta in [0.1, 0.3] {
+        let exact = exact_restitution(zeta);
+        for fraction in [0.1, 0.05, 0.025] {
+            // ωΔt = √2 × fraction for two equal discs (m_eff = m/2, Δt = fraction √(m/k))
+            let bound = 2.0 * zeta * std::f64::consts::SQRT_2 * fraction;
+            let error = (collide(zeta, fraction) / exact - 1.0).abs();
+            assert!(
+                error < bound,
+                "ζ = {zeta}, Δt fraction {fraction}: {error} ≥ {bound}"
+            );
+        }
+    }
+}
+
+/// A jostled, overlapping assembly of discs with friction and damping (it flies apart): the
+/// pair forces are equal and opposite, so total momentum stays at its start to round-off.
+#[test]
+fn jostled_assembly_conserves_momentum() {
+    let n = 8;
+    let mut positions = Vec::new();
+    for k in 0..n * n {
+        let (i, j) = ((k % n) as f64, (k / n) as f64);
+        positions.push(Vector::<2>::new(i * 1.9 * RADIUS, j * 1.9 * RADIUS));
+    }
+    let mut discs = Discs::new(positions, vec![RADIUS; n * n], DENSITY, model(0.2), None).unwrap();
+    for k in 0..n * n {
+        let s = ((k * 7919) % 101) as f64 / 101.0 - 0.5;
+        let c = ((k * 104729) % 97) as f64 / 97.0 - 0.5;
+        discs.velocity[k] = Vector::<2>::new(0.2 * s, 0.2 * c);
+        discs.angular_velocity[k] = 100.0 * s;
+    }
+    let momentum =
+        |d: &Discs| -> Vector<2> { (0..d.len()).map(|k| d.velocity[k] * d.mass[k]).sum() };
+    let scale: f64 = (0..discs.len())
+        .map(|k| discs.mass[k] * discs.velocity[k].norm())
+        .sum();
+    let start = momentum(&discs);
+    let dt = discs.critical_time_step(0.1);
+    let mut touching = 0;
+    for _ in 0..2000 {
+        discs.step(dt).unwrap();
+        touching = touching.max(discs.counts().0);
+    }
+    assert!(touching > n * n, "{touching} contacts at most");
+    assert!((momentum(&discs) - start).norm() < 1e-12 * scale);
+}
+
+/// A bridge forms only at contact, pulls with its law's force at the gap, breaks beyond the
+/// rupture gap and does not form again until the discs touch.
+#[test]
+fn liquid_bridge_forms_at_contact_and_breaks_at_rupture() {
+    let liquid = Liquid::water(1e-14, 0.0).unwrap();
+    let wetting = Wetting {
+        law: BridgeLaw::WillettFitted,
+        rupture: RuptureCriterion::Lian,
+        liquid,
+    };
+    let r = effective_radius(RADIUS, RADIUS);
+    let s_c = rupture_gap(RuptureCriterion::Lian, &liquid, r);
+    let at_gap = |discs: &mut Discs, gap: f64| {
+        discs.position[1] = Vector::<2>::new(2.0 * RADIUS + gap, 0.0);
+        discs.compute_forces(0.0);
+        discs.force[0][0]
+    };
+    let mut discs = Discs::new(
+        vec![
+            Vector::zeros(),
+            Vector::<2>::new(2.0 * RADIUS + 0.5 * s_c, 0.0),
+        ],
+        vec![RADIUS; 2],
+        DENSITY,
+        model(0.0),
+        Some(wetting),
+    )
+    .unwrap();
+    // apart and never touched: dry
+    assert_eq!(at_gap(&mut discs, 0.5 * s_c), 0.0);
+    // touch: the bridge forms
+    at_gap(&mut discs, -1e-7);
+    assert_eq!(discs.counts().1, 1);
+    // pulled apart: the law's force, towards the other disc
+    let pull = at_gap(&mut discs, 0.5 * s_c);
+    let expected = bridge_force(BridgeLaw::WillettFitted, &liquid, r, 0.5 * s_c);
+    assert!((pull / expected - 1.0).abs() < 1e-12, "{pull} {expected}");
+    // beyond rupture: broken, and it stays broken when the gap closes again short of contact
+    assert_eq!(at_gap(&mut discs, 1.01 * s_c), 0.0);
+    assert_eq!(discs.counts().1, 0);
+    assert_eq!(at_gap(&mut discs, 0.5 * s_c), 0.0);
+}
+
+/// Bad contact data is named.
+#[test]
+fn bad_contact_model_is_named() {
+    let bad = ContactModel {
+        damping_ratio: 1.5,
+        ..model(0.0)
+    };
+    let err = Discs::new(vec![Vector::zeros()], vec![RADIUS], DENSITY, bad, None)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("damping ratio"), "{err}");
+    let err = Discs::new(vec![Vector::zeros()], vec![-1.0], DENSITY, model(0.0), None)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("radius"), "{err}");
+}
