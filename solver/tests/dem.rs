@@ -174,3 +174,43 @@ fn bad_contact_model_is_named() {
         .to_string();
     assert!(err.contains("radius"), "{err}");
 }
+
+/// The tangential spring under a steady sliding velocity u (positions frozen): its force grows
+/// as k_t u t until it reaches the Coulomb limit μ k_n δ and stays there; the torques are the
+/// contact radius times it, equal for equal discs.
+#[test]
+fn tangential_spring_grows_to_the_coulomb_limit() {
+    let overlap = 1e-6;
+    let mut discs = Discs::new(
+        vec![
+            Vector::zeros(),
+            Vector::<2>::new(2.0 * RADIUS - overlap, 0.0),
+        ],
+        vec![RADIUS; 2],
+        DENSITY,
+        model(0.0),
+        None,
+    )
+    .unwrap();
+    let u = 0.05; // the limit is reached at step 20
+    discs.velocity[1] = Vector::<2>::new(0.0, u);
+    let dt = 1e-6;
+    let m = model(0.0);
+    let limit = m.friction * m.normal_stiffness * overlap;
+    let mut slipped = false;
+    for k in 1..=200 {
+        discs.compute_forces(dt);
+        slipped |= m.tangential_stiffness * u * dt * k as f64 > limit;
+        let expected = (m.tangential_stiffness * u * dt * k as f64).min(limit);
+        // j drags i along +y
+        let tangential = discs.force[0][1];
+        assert!(
+            (tangential / expected - 1.0).abs() < 1e-9,
+            "step {k}: {tangential} vs {expected}"
+        );
+        assert!((discs.force[0][0] + m.normal_stiffness * overlap).abs() < 1e-12);
+        assert!((discs.torque[0] - RADIUS * tangential).abs() < 1e-15);
+        assert!((discs.torque[1] - discs.torque[0]).abs() < 1e-15);
+    }
+    assert!(slipped);
+}
