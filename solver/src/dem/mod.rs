@@ -1,6 +1,7 @@
 //! Discrete elements for moist sand (issue 5): grains joined by pendular liquid bridges. The
-//! bridge force laws ([`capillary`]) and 2D disc dynamics with contacts, walls and bridges
-//! ([`discs`]).
+//! bridge force laws ([`capillary`]), 2D disc dynamics with contacts, walls and bridges
+//! ([`discs`]) and sample preparation ([`sample`]).
 
 pub mod capillary;
 pub mod discs;
+pub mod sample;
