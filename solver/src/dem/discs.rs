@@ -186,6 +186,35 @@ impl Discs {
         self.position.is_empty()
     }
 
+    /// Grows (or shrinks) every disc's radius by `factor`, keeping its density: mass ∝ r²,
+    /// inertia ∝ r⁴ (radius expansion).
+    pub fn scale_radii(&mut self, factor: f64) {
+        for k in 0..self.len() {
+            self.radius[k] *= factor;
+            self.mass[k] *= factor * factor;
+            self.inertia[k] *= factor.powi(4);
+        }
+    }
+
+    /// Contacts per disc (with discs and walls), counting only discs with at least two (a
+    /// rattler carries no load).
+    pub fn coordination(&self) -> f64 {
+        let mut per_disc = vec![0usize; self.len()];
+        for &(i, j) in self.contacts.keys() {
+            per_disc[i as usize] += 1;
+            per_disc[j as usize] += 1;
+        }
+        for wall in &self.walls {
+            for (k, count) in per_disc.iter_mut().enumerate() {
+                if (self.position[k] - wall.point).dot(&wall.normal) < self.radius[k] {
+                    *count += 1;
+                }
+            }
+        }
+        let carrying: Vec<usize> = per_disc.into_iter().filter(|&c| c >= 2).collect();
+        carrying.iter().sum::<usize>() as f64 / carrying.len().max(1) as f64
+    }
+
     pub fn add_wall(&mut self, wall: Wall) {
         self.walls.push(Wall {
             normal: wall.normal.normalize(),

@@ -92,6 +92,76 @@ pub fn place_without_overlap(
     Ok(centres)
 }
 
+/// Where radius expansion stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Expansion {
+    /// Mean normal stress on the walls ½(σ_xx + σ_yy) (Pa, unit thickness).
+    pub wall_stress: f64,
+    /// 1 − (disc area)/(box area).
+    pub porosity: f64,
+    /// Mean contacts per load-carrying disc.
+    pub coordination: f64,
+    pub steps: usize,
+}
+
+/// Radius expansion inside the four walls of a `width` × `height` box (already added to the
+/// discs, in the order left, right, bottom, top): cycles of `steps_per_cycle` steps, after each
+/// of which the radii grow by g = `growth`·(1 − p/p_target) (shrink above the target), p the
+/// mean wall stress, until p has stayed within 2 % of the target for five cycles in a row
+/// (local damping in the contact model keeps the loading quasi-static; a lone rattler may
+/// still drift, so the test is on the stress, not on the kinetic energy). Gives up with a
+/// named error after `max_cycles`.
+pub fn expand_to_stress(
+    discs: &mut super::discs::Discs,
+    (width, height): (f64, f64),
+    target_stress: f64,
+    (growth, steps_per_cycle, max_cycles): (f64, usize, usize),
+) -> Result<Expansion, SolverError> {
+    if discs.walls.len() != 4 {
+        return Err(SolverError::invalid(
+            "walls",
+            discs.walls.len(),
+            "4 (left, right, bottom, top) for radius expansion",
+        ));
+    }
+    let dt = discs.critical_time_step(0.2);
+    let (mut steps, mut steady) = (0, 0);
+    for _ in 0..max_cycles {
+        for _ in 0..steps_per_cycle {
+            discs.step(dt)?;
+        }
+        steps += steps_per_cycle;
+        let f = &discs.wall_force;
+        let sigma_xx = 0.5 * (f[0][0].abs() + f[1][0].abs()) / height;
+        let sigma_yy = 0.5 * (f[2][1].abs() + f[3][1].abs()) / width;
+        let stress = 0.5 * (sigma_xx + sigma_yy);
+        steady = if (stress / target_stress - 1.0).abs() < 0.02 {
+            steady + 1
+        } else {
+            0
+        };
+        if steady == 5 {
+            let solid: f64 = discs
+                .radius
+                .iter()
+                .map(|r| std::f64::consts::PI * r * r)
+                .sum();
+            return Ok(Expansion {
+                wall_stress: stress,
+                porosity: 1.0 - solid / (width * height),
+                coordination: discs.coordination(),
+                steps,
+            });
+        }
+        discs.scale_radii(1.0 + growth * (1.0 - stress / target_stress).max(-1.0));
+    }
+    Err(SolverError::invalid(
+        "radius expansion",
+        format!("not within 2 % of {target_stress} Pa after {max_cycles} cycles"),
+        "more cycles or a larger growth",
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
