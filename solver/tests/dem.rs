@@ -215,14 +215,9 @@ fn tangential_spring_grows_to_the_coulomb_limit() {
     assert!(slipped);
 }
 
-/// Radius expansion of 200 graded discs (0.1–0.5 mm, μ = 0.5) in a rigid box reaches the target
-/// wall stress within 2 % and leaves a jammed packing: porosity between 0.1 and 0.3 (random
-/// packings of polydisperse discs lie near 0.15–0.2, looser with friction) and a mean
-/// coordination of the load-carrying discs (wall contacts counted) between the isostatic bounds
-/// of 2D jamming, 3 (frictional, μ → ∞) and 4 (frictionless), allowing 0.5 above 4 for the
-/// springs' finite overlap. Measured: porosity 0.224, coordination 3.12, 25 250 steps.
-#[test]
-fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
+/// 200 graded discs (0.1–0.5 mm) placed loosely in a 2.2 × 4.4 mm rigid box and expanded to a
+/// 100 Pa wall stress with inter-particle friction μ.
+fn expanded_sample(friction: f64) -> blastsph_solver::dem::sample::Expansion {
     use blastsph_solver::dem::discs::Wall;
     use blastsph_solver::dem::sample::{
         expand_to_stress, graded_diameters, place_without_overlap, SplitMix64,
@@ -237,6 +232,7 @@ fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
     let centres = place_without_overlap(&radii, (w, h), 1.0, 2000, &mut rng).unwrap();
     let quasi_static = ContactModel {
         local_damping: 0.7,
+        friction,
         ..model(0.3)
     };
     let mut discs = Discs::new(centres, radii, DENSITY, quasi_static, None).unwrap();
@@ -252,8 +248,32 @@ fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
             velocity: Vector::zeros(),
         });
     }
-    let done = expand_to_stress(&mut discs, (w, h), 100.0, (0.002, 50, 5000)).unwrap();
+    expand_to_stress(&mut discs, (w, h), 100.0, (0.002, 50, 5000)).unwrap()
+}
+
+/// Radius expansion with μ = 0.5 reaches the target wall stress within 2 % and leaves a jammed
+/// packing: porosity between 0.1 and 0.3 (random packings of polydisperse discs lie near
+/// 0.15–0.2, looser with friction) and a mean coordination of the load-carrying discs (wall
+/// contacts counted) between the isostatic bounds of 2D jamming, 3 (frictional, μ → ∞) and 4
+/// (frictionless), allowing 0.5 above 4 for the springs' finite overlap. Measured: porosity
+/// 0.224, coordination 3.12, 25 250 steps.
+#[test]
+fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
+    let done = expanded_sample(0.5);
     assert!((done.wall_stress / 100.0 - 1.0).abs() < 0.02, "{done:?}");
     assert!((0.1..0.3).contains(&done.porosity), "{done:?}");
     assert!((3.0..4.5).contains(&done.coordination), "{done:?}");
+}
+
+/// The friction study's expected trend (a standard DEM result, issue 5): the same sample
+/// prepared with more friction between grains is looser and less coordinated. Measured:
+/// μ = 0.1: porosity 0.194, coordination 3.54; μ = 1: 0.236, 3.01.
+#[test]
+fn more_friction_prepares_a_looser_less_coordinated_sample() {
+    let (smooth, rough) = (expanded_sample(0.1), expanded_sample(1.0));
+    assert!(rough.porosity > smooth.porosity, "{smooth:?} {rough:?}");
+    assert!(
+        rough.coordination < smooth.coordination,
+        "{smooth:?} {rough:?}"
+    );
 }
