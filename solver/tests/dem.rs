@@ -115,11 +115,14 @@ fn jostled_assembly_conserves_momentum() {
     assert!((momentum(&discs) - start).norm() < 1e-12 * scale);
 }
 
-/// A bridge forms only at contact, pulls with its law's force at the gap, breaks beyond the
-/// rupture gap and does not form again until the discs touch.
+/// A bridge forms only at contact, from half of each grain's film; pulls with its law's force
+/// at the gap; breaks beyond the rupture gap, giving half its liquid back to each grain; does
+/// not form again until the grains touch. The liquid in films and bridges stays the same
+/// throughout.
 #[test]
 fn liquid_bridge_forms_at_contact_and_breaks_at_rupture() {
-    let liquid = Liquid::water(1e-14, 0.0).unwrap();
+    let film = 1e-14;
+    let liquid = Liquid::water(film, 0.0).unwrap();
     let wetting = Wetting {
         law: BridgeLaw::WillettFitted,
         rupture: RuptureCriterion::Lian,
@@ -130,6 +133,7 @@ fn liquid_bridge_forms_at_contact_and_breaks_at_rupture() {
     let at_gap = |discs: &mut Discs, gap: f64| {
         discs.position[1] = Vector::<2>::new(2.0 * RADIUS + gap, 0.0);
         discs.compute_forces(0.0);
+        assert!((discs.total_liquid() / (2.0 * film) - 1.0).abs() < 1e-12);
         discs.force[0][0]
     };
     let mut discs = Discs::new(
@@ -145,17 +149,49 @@ fn liquid_bridge_forms_at_contact_and_breaks_at_rupture() {
     .unwrap();
     // apart and never touched: dry
     assert_eq!(at_gap(&mut discs, 0.5 * s_c), 0.0);
-    // touch: the bridge forms
+    // touch: the bridge forms with half of each film, V = film
     at_gap(&mut discs, -1e-7);
-    assert_eq!(discs.counts().1, 1);
-    // pulled apart: the law's force, towards the other disc
+    let volumes: Vec<f64> = discs.bridge_volumes().map(|(_, v)| v).collect();
+    assert_eq!(volumes, vec![film]);
+    assert_eq!(discs.film, vec![0.5 * film; 2]);
+    // pulled apart: the law's force for that volume, towards the other disc
     let pull = at_gap(&mut discs, 0.5 * s_c);
     let expected = bridge_force(BridgeLaw::WillettFitted, &liquid, r, 0.5 * s_c);
     assert!((pull / expected - 1.0).abs() < 1e-12, "{pull} {expected}");
-    // beyond rupture: broken, and it stays broken when the gap closes again short of contact
+    // beyond rupture: broken, the liquid back in the films, and no bridge short of contact
     assert_eq!(at_gap(&mut discs, 1.01 * s_c), 0.0);
     assert_eq!(discs.counts().1, 0);
+    assert_eq!(discs.film, vec![film; 2]);
     assert_eq!(at_gap(&mut discs, 0.5 * s_c), 0.0);
+}
+
+/// The pore water of a prepared sample goes to the contacts in proportion to their centre
+/// distances and adds up to the volume given; the films are left empty.
+#[test]
+fn liquid_is_distributed_in_proportion_to_centre_distance() {
+    let wetting = Wetting {
+        law: BridgeLaw::WillettFitted,
+        rupture: RuptureCriterion::Lian,
+        liquid: Liquid::water(1e-15, 0.0).unwrap(),
+    };
+    // a row of three touching discs of different sizes: two contacts at different distances
+    let radii = vec![RADIUS, 2.0 * RADIUS, 1.5 * RADIUS];
+    let positions = vec![
+        Vector::<2>::zeros(),
+        Vector::<2>::new(3.0 * RADIUS - 1e-7, 0.0),
+        Vector::<2>::new(6.5 * RADIUS - 2e-7, 0.0),
+    ];
+    let mut discs = Discs::new(positions, radii, DENSITY, model(0.0), Some(wetting)).unwrap();
+    discs.compute_forces(0.0);
+    discs.distribute_liquid(6e-14).unwrap();
+    let volumes: Vec<((usize, usize), f64)> = discs.bridge_volumes().collect();
+    assert_eq!(volumes.len(), 2);
+    let d01 = 3.0 * RADIUS - 1e-7;
+    let d12 = 3.5 * RADIUS - 1e-7;
+    assert!((volumes[0].1 / (6e-14 * d01 / (d01 + d12)) - 1.0).abs() < 1e-12);
+    assert!((volumes[1].1 / (6e-14 * d12 / (d01 + d12)) - 1.0).abs() < 1e-12);
+    assert!((discs.total_liquid() / 6e-14 - 1.0).abs() < 1e-12);
+    assert!(discs.film.iter().all(|&f| f == 0.0));
 }
 
 /// Bad contact data is named.
@@ -276,4 +312,51 @@ fn more_friction_prepares_a_looser_less_coordinated_sample() {
         rough.coordination < smooth.coordination,
         "{smooth:?} {rough:?}"
     );
+}
+
+/// A jostled wet assembly, where bridges keep forming and breaking: the liquid in films and
+/// bridges together stays the same to round-off.
+#[test]
+fn jostled_wet_assembly_conserves_its_liquid() {
+    let n = 6;
+    let positions: Vec<Vector<2>> = (0..n * n)
+        .map(|k| {
+            Vector::<2>::new(
+                (k % n) as f64 * 2.02 * RADIUS,
+                (k / n) as f64 * 2.02 * RADIUS,
+            )
+        })
+        .collect();
+    let wetting = Wetting {
+        law: BridgeLaw::WillettFitted,
+        rupture: RuptureCriterion::Lian,
+        liquid: Liquid::water(1e-14, 0.0).unwrap(),
+    };
+    let mut discs = Discs::new(
+        positions,
+        vec![RADIUS; n * n],
+        DENSITY,
+        model(0.1),
+        Some(wetting),
+    )
+    .unwrap();
+    for k in 0..n * n {
+        let s = ((k * 7919) % 101) as f64 / 101.0 - 0.5;
+        let c = ((k * 104729) % 97) as f64 / 97.0 - 0.5;
+        discs.velocity[k] = Vector::<2>::new(0.5 * s, 0.5 * c);
+    }
+    let start = discs.total_liquid();
+    let dt = discs.critical_time_step(0.1);
+    let (mut most, mut fewest) = (0, usize::MAX);
+    for _ in 0..3000 {
+        discs.step(dt).unwrap();
+        let bridges = discs.counts().1;
+        most = most.max(bridges);
+        fewest = fewest.min(bridges);
+    }
+    assert!(
+        most > fewest,
+        "bridges {fewest}..{most}: none formed or broke"
+    );
+    assert!((discs.total_liquid() / start - 1.0).abs() < 1e-12);
 }

@@ -78,8 +78,15 @@ pub struct Wall {
     pub velocity: Vector<2>,
 }
 
-/// Wet grains: every contact forms a bridge of `liquid` (its volume per bridge), acting until
-/// the gap exceeds the rupture distance.
+/// Wet grains: the bridge law, where bridges break, and the liquid: its surface tension and
+/// contact angle, and as `liquid.volume` the film each grain carries at the start.
+///
+/// The liquid is conserved, bridge by bridge (Mani, Kadau & Herrmann 2013 keep it the same
+/// way; the halves are this project's rule): a bridge forms when two grains touch and takes
+/// half of each grain's film, V = (f_i + f_j)/2; while the grains part it keeps its volume; at
+/// its rupture gap it breaks and gives V/2 back to each grain's film.
+/// [`Discs::distribute_liquid`] instead shares a given volume among the present contacts in
+/// proportion to their centre distances (the source paper's rule for a prepared sample).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wetting {
     pub law: BridgeLaw,
@@ -111,8 +118,10 @@ pub struct Discs {
     model: ContactModel,
     wetting: Option<Wetting>,
     contacts: BTreeMap<(u32, u32), Contact>,
-    /// The pairs holding a bridge.
-    bridges: BTreeMap<(u32, u32), ()>,
+    /// The pairs holding a bridge, and its liquid volume (m³).
+    bridges: BTreeMap<(u32, u32), f64>,
+    /// Each grain's liquid film (m³), not in any bridge.
+    pub film: Vec<f64>,
     pub time: f64,
 }
 
@@ -174,6 +183,7 @@ impl Discs {
             wetting,
             contacts: BTreeMap::new(),
             bridges: BTreeMap::new(),
+            film: vec![wetting.map_or(0.0, |w| w.liquid.volume); n],
             time: 0.0,
         })
     }
@@ -235,23 +245,78 @@ impl Discs {
         safety * (m_min / self.model.normal_stiffness).sqrt()
     }
 
-    /// The largest gap a bridge can span between discs of radii r1, r2.
-    fn bridge_reach(&self, r1: f64, r2: f64) -> f64 {
-        self.wetting.as_ref().map_or(0.0, |w| {
-            rupture_gap(w.rupture, &w.liquid, effective_radius(r1, r2))
-        })
+    /// The liquid in bridges and films together (m³): constant while bridges form and break.
+    pub fn total_liquid(&self) -> f64 {
+        self.bridges.values().sum::<f64>() + self.film.iter().sum::<f64>()
+    }
+
+    /// The liquid volume of each bridge, by pair.
+    pub fn bridge_volumes(&self) -> impl Iterator<Item = ((usize, usize), f64)> + '_ {
+        self.bridges
+            .iter()
+            .map(|(&(i, j), &v)| ((i as usize, j as usize), v))
+    }
+
+    /// Puts `volume` (m³) into bridges at the pairs now in contact, shared in proportion to
+    /// their centre-to-centre distances, and empties the films (the source paper's rule for the
+    /// pore water of a prepared sample). An error if the grains are dry or none touch.
+    pub fn distribute_liquid(&mut self, volume: f64) -> Result<(), SolverError> {
+        if self.wetting.is_none() {
+            return Err(SolverError::invalid(
+                "wetting",
+                "none",
+                "wet grains to hold liquid",
+            ));
+        }
+        if !(volume > 0.0 && volume.is_finite()) {
+            return Err(SolverError::invalid(
+                "liquid volume",
+                volume,
+                "finite and > 0 (m³)",
+            ));
+        }
+        let distance =
+            |&(i, j): &(u32, u32)| (self.position[j as usize] - self.position[i as usize]).norm();
+        let total: f64 = self.contacts.keys().map(distance).sum();
+        if total == 0.0 {
+            return Err(SolverError::invalid(
+                "contacts",
+                0,
+                "at least one to hold liquid",
+            ));
+        }
+        self.bridges = self
+            .contacts
+            .keys()
+            .map(|key| (*key, volume * distance(key) / total))
+            .collect();
+        self.film.iter_mut().for_each(|f| *f = 0.0);
+        Ok(())
+    }
+
+    /// The wetting and the liquid of a bridge of `volume`.
+    fn bridge_liquid(&self, volume: f64) -> Option<(Wetting, Liquid)> {
+        self.wetting.map(|w| (w, Liquid { volume, ..w.liquid }))
     }
 
     /// Forces and torques of the current positions and velocities (contacts, bridges,
-    /// walls); contact springs advance by `dt`.
+    /// walls); contact springs advance by `dt`; bridges form, keep or break (see [`Wetting`]).
     pub fn compute_forces(&mut self, dt: f64) {
         let n = self.len();
         for k in 0..n {
             self.force[k] = Vector::zeros();
             self.torque[k] = 0.0;
         }
-        let r_max = self.radius.iter().cloned().fold(0.0, f64::max);
-        let margin = self.bridge_reach(r_max, r_max);
+        // the search reaches every contact and every standing bridge (Willett's rupture gap
+        // is largest for the smallest radius)
+        let r_min = self.radius.iter().cloned().fold(f64::INFINITY, f64::min);
+        let margin = self
+            .bridges
+            .values()
+            .filter_map(|&v| self.bridge_liquid(v))
+            .map(|(w, liquid)| rupture_gap(w.rupture, &liquid, r_min))
+            .fold(0.0, f64::max);
+        // pairs within r_i + r_j + margin: (reach_i + reach_j)/2 with reach = 2r + margin
         let reach: Vec<f64> = self.radius.iter().map(|r| 2.0 * r + margin).collect();
         let neighbours = find_neighbours(&self.position, &reach, 1.0, PairReach::MeanH, n);
         let mut contacts = BTreeMap::new();
@@ -269,17 +334,36 @@ impl Discs {
                     let contact = self.contact_force(i, j, normal, -gap, previous, dt);
                     contacts.insert(key, contact);
                 }
-                // a bridge forms at contact and lives until its rupture gap
-                if let Some(w) = self.wetting {
-                    let radius = effective_radius(ri, rj);
-                    let formed = gap < 0.0 || self.bridges.contains_key(&key);
-                    if formed && gap < rupture_gap(w.rupture, &w.liquid, radius) {
-                        let f = bridge_force(w.law, &w.liquid, radius, gap) * normal;
-                        self.force[i] += f;
-                        self.force[j] -= f;
-                        bridges.insert(key, ());
-                    }
+                if self.wetting.is_none() {
+                    continue;
                 }
+                // a standing bridge keeps its liquid; a new one forms at contact from the films
+                let volume = match self.bridges.get(&key) {
+                    Some(&v) => v,
+                    None if gap < 0.0 && self.film[i] + self.film[j] > 0.0 => {
+                        let v = 0.5 * (self.film[i] + self.film[j]);
+                        self.film[i] *= 0.5;
+                        self.film[j] *= 0.5;
+                        v
+                    }
+                    None => continue,
+                };
+                let (w, liquid) = self.bridge_liquid(volume).expect("wet grains");
+                let radius = effective_radius(ri, rj);
+                if gap < rupture_gap(w.rupture, &liquid, radius) {
+                    let f = bridge_force(w.law, &liquid, radius, gap) * normal;
+                    self.force[i] += f;
+                    self.force[j] -= f;
+                    bridges.insert(key, volume);
+                }
+            }
+        }
+        // every bridge that did not survive (beyond its rupture gap, or out of the search
+        // altogether) gives half of its liquid back to each grain
+        for (&(i, j), &volume) in &self.bridges {
+            if !bridges.contains_key(&(i, j)) {
+                self.film[i as usize] += 0.5 * volume;
+                self.film[j as usize] += 0.5 * volume;
             }
         }
         self.contacts = contacts;
