@@ -1,7 +1,9 @@
 //! Discrete elements for moist sand (issue 5): grains joined by pendular liquid bridges. The
 //! bridge force laws ([`capillary`]), 2D disc dynamics with contacts, walls and bridges
-//! ([`discs`]) and sample preparation ([`sample`]).
+//! ([`discs`]), sample preparation ([`sample`]) and the Mohr–Coulomb fit of failure states
+//! ([`strength_fit`]).
 
 pub mod capillary;
 pub mod discs;
 pub mod sample;
+pub mod strength_fit;
