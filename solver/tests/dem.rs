@@ -360,3 +360,58 @@ fn jostled_wet_assembly_conserves_its_liquid() {
     );
     assert!((discs.total_liquid() / start - 1.0).abs() < 1e-12);
 }
+
+/// A dry biaxial test at σ3 = 100 Pa with slow platens (0.5 mm/s each: inertial number
+/// ε̇ d √(ρ/σ3) ≈ 2e-4, quasi-static): the servo walls hold σ3 within 5 % on average after the
+/// first 1 % of strain, and the sample shows a shear strength, its peak mobilised friction
+/// angle asin((σ1 − σ3)/(σ1 + σ3)) between 10° and 35° (a plausibility band for frictional
+/// discs that roll freely, not a calibration; measured 19.8°). A smoke test of the loading:
+/// the calibrated biaxial problem is still to come.
+#[test]
+fn dry_biaxial_holds_its_confinement_and_shows_a_friction_angle() {
+    use blastsph_solver::dem::biaxial::{run_biaxial, Loading};
+    use blastsph_solver::dem::discs::Wall;
+    use blastsph_solver::dem::sample::{
+        expand_to_stress, graded_diameters, place_without_overlap, SplitMix64,
+    };
+    let sigma3 = 100.0;
+    let mut rng = SplitMix64::new(11);
+    let radii: Vec<f64> = graded_diameters(200, 1e-4, 5e-4, &mut rng)
+        .unwrap()
+        .iter()
+        .map(|d| 0.3 * d)
+        .collect();
+    let (w, h) = (2.2e-3, 4.4e-3);
+    let centres = place_without_overlap(&radii, (w, h), 1.0, 2000, &mut rng).unwrap();
+    let quasi_static = ContactModel {
+        local_damping: 0.7,
+        ..model(0.3)
+    };
+    let mut discs = Discs::new(centres, radii, DENSITY, quasi_static, None).unwrap();
+    for (point, normal) in [
+        ((0.0, 0.0), (1.0, 0.0)),
+        ((w, 0.0), (-1.0, 0.0)),
+        ((0.0, 0.0), (0.0, 1.0)),
+        ((0.0, h), (0.0, -1.0)),
+    ] {
+        discs.add_wall(Wall {
+            point: Vector::<2>::new(point.0, point.1),
+            normal: Vector::<2>::new(normal.0, normal.1),
+            velocity: Vector::zeros(),
+        });
+    }
+    expand_to_stress(&mut discs, (w, h), sigma3, (0.002, 50, 5000)).unwrap();
+    let loading = Loading {
+        confining_stress: sigma3,
+        platen_speed: 5e-4,
+        axial_strain: 0.1,
+        record_every: 5000,
+    };
+    let records = run_biaxial(&mut discs, loading).unwrap();
+    let loaded: Vec<_> = records.iter().filter(|r| r.axial_strain > 0.01).collect();
+    let mean3 = loaded.iter().map(|r| r.sigma3).sum::<f64>() / loaded.len() as f64;
+    assert!((mean3 / sigma3 - 1.0).abs() < 0.05, "mean σ3 {mean3}");
+    let peak = records.iter().map(|r| r.sigma1).fold(0.0, f64::max);
+    let phi = ((peak - mean3) / (peak + mean3)).asin().to_degrees();
+    assert!((10.0..35.0).contains(&phi), "peak friction angle {phi}°");
+}

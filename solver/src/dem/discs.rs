@@ -225,6 +225,11 @@ impl Discs {
         carrying.iter().sum::<usize>() as f64 / carrying.len().max(1) as f64
     }
 
+    /// k_n of the contact model (N/m).
+    pub fn normal_stiffness(&self) -> f64 {
+        self.model.normal_stiffness
+    }
+
     pub fn add_wall(&mut self, wall: Wall) {
         self.walls.push(Wall {
             normal: wall.normal.normalize(),
