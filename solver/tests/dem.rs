@@ -252,8 +252,8 @@ fn tangential_spring_grows_to_the_coulomb_limit() {
 }
 
 /// 200 graded discs (0.1–0.5 mm) placed loosely in a 2.2 × 4.4 mm rigid box and expanded to a
-/// 100 Pa wall stress with inter-particle friction μ.
-fn expanded_sample(friction: f64) -> blastsph_solver::dem::sample::Expansion {
+/// wall stress `stress` with inter-particle friction μ.
+fn expanded_sample(friction: f64, stress: f64) -> (Discs, blastsph_solver::dem::sample::Expansion) {
     use blastsph_solver::dem::discs::Wall;
     use blastsph_solver::dem::sample::{
         expand_to_stress, graded_diameters, place_without_overlap, SplitMix64,
@@ -284,7 +284,8 @@ fn expanded_sample(friction: f64) -> blastsph_solver::dem::sample::Expansion {
             velocity: Vector::zeros(),
         });
     }
-    expand_to_stress(&mut discs, (w, h), 100.0, (0.002, 50, 5000)).unwrap()
+    let done = expand_to_stress(&mut discs, (w, h), stress, (0.002, 50, 5000)).unwrap();
+    (discs, done)
 }
 
 /// Radius expansion with μ = 0.5 reaches the target wall stress within 2 % and leaves a jammed
@@ -295,7 +296,7 @@ fn expanded_sample(friction: f64) -> blastsph_solver::dem::sample::Expansion {
 /// 0.224, coordination 3.12, 25 250 steps.
 #[test]
 fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
-    let done = expanded_sample(0.5);
+    let (_, done) = expanded_sample(0.5, 100.0);
     assert!((done.wall_stress / 100.0 - 1.0).abs() < 0.02, "{done:?}");
     assert!((0.1..0.3).contains(&done.porosity), "{done:?}");
     assert!((3.0..4.5).contains(&done.coordination), "{done:?}");
@@ -306,7 +307,7 @@ fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
 /// μ = 0.1: porosity 0.194, coordination 3.54; μ = 1: 0.236, 3.01.
 #[test]
 fn more_friction_prepares_a_looser_less_coordinated_sample() {
-    let (smooth, rough) = (expanded_sample(0.1), expanded_sample(1.0));
+    let (smooth, rough) = (expanded_sample(0.1, 100.0).1, expanded_sample(1.0, 100.0).1);
     assert!(rough.porosity > smooth.porosity, "{smooth:?} {rough:?}");
     assert!(
         rough.coordination < smooth.coordination,
@@ -370,37 +371,8 @@ fn jostled_wet_assembly_conserves_its_liquid() {
 #[test]
 fn dry_biaxial_holds_its_confinement_and_shows_a_friction_angle() {
     use blastsph_solver::dem::biaxial::{run_biaxial, Loading};
-    use blastsph_solver::dem::discs::Wall;
-    use blastsph_solver::dem::sample::{
-        expand_to_stress, graded_diameters, place_without_overlap, SplitMix64,
-    };
     let sigma3 = 100.0;
-    let mut rng = SplitMix64::new(11);
-    let radii: Vec<f64> = graded_diameters(200, 1e-4, 5e-4, &mut rng)
-        .unwrap()
-        .iter()
-        .map(|d| 0.3 * d)
-        .collect();
-    let (w, h) = (2.2e-3, 4.4e-3);
-    let centres = place_without_overlap(&radii, (w, h), 1.0, 2000, &mut rng).unwrap();
-    let quasi_static = ContactModel {
-        local_damping: 0.7,
-        ..model(0.3)
-    };
-    let mut discs = Discs::new(centres, radii, DENSITY, quasi_static, None).unwrap();
-    for (point, normal) in [
-        ((0.0, 0.0), (1.0, 0.0)),
-        ((w, 0.0), (-1.0, 0.0)),
-        ((0.0, 0.0), (0.0, 1.0)),
-        ((0.0, h), (0.0, -1.0)),
-    ] {
-        discs.add_wall(Wall {
-            point: Vector::<2>::new(point.0, point.1),
-            normal: Vector::<2>::new(normal.0, normal.1),
-            velocity: Vector::zeros(),
-        });
-    }
-    expand_to_stress(&mut discs, (w, h), sigma3, (0.002, 50, 5000)).unwrap();
+    let (mut discs, _) = expanded_sample(0.5, sigma3);
     let loading = Loading {
         confining_stress: sigma3,
         platen_speed: 5e-4,
