@@ -90,6 +90,40 @@ impl Run {
         self.phase_s = phase_seconds(&sim.phase_times());
     }
 
+    /// Builds the scene and runs it to `t_end` (progress as a fraction of it), booking the
+    /// work; `None`, with the solver's diagnosis in `failure`, where it refused the scene or
+    /// stopped early.
+    pub fn simulate<const D: usize>(
+        &mut self,
+        scene: (
+            &[blastsph_solver::particles::ParticleInit<D>],
+            Vec<blastsph_solver::Material>,
+            blastsph_solver::Domain<D>,
+            blastsph_solver::SimulationConfig,
+        ),
+        t_end: f64,
+        progress: &(dyn Fn(f64) + Sync),
+    ) -> Result<Option<blastsph_solver::Simulation<D>>, crate::VerifyError> {
+        let (init, materials, domain, config) = scene;
+        let start = std::time::Instant::now();
+        let mut sim = match blastsph_solver::Simulation::new(init, materials, domain, config) {
+            Ok(sim) => sim,
+            Err(refused) => {
+                self.failure = Some(crate::VerifyError::from_scene(refused)?);
+                return Ok(None);
+            }
+        };
+        let outcome = sim.run_until(t_end, |t| progress(t / t_end));
+        self.record_work(&sim, start);
+        match outcome {
+            Ok(()) => Ok(Some(sim)),
+            Err(e) => {
+                self.failure = Some(e.to_string());
+                Ok(None)
+            }
+        }
+    }
+
     /// A run not yet started (no steps, errors or metrics yet).
     pub fn new(
         label: impl Into<String>,

@@ -20,7 +20,7 @@ use crate::vtk::Snapshot;
 use crate::VerifyError;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialStress, ArtificialViscosity, DensityMethod, Domain, Simulation, SimulationConfig,
+    ArtificialStress, ArtificialViscosity, DensityMethod, Domain, SimulationConfig,
     SmoothingLength, Vector,
 };
 
@@ -165,20 +165,14 @@ fn run_one(
         snapshot: None,
         particles: Vec::new(),
     };
-    let start = std::time::Instant::now();
-    let mut sim = match Simulation::<2>::new(&init, vec![material], Domain::open(), config) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok(failed(run));
-        }
-    };
-    let outcome = sim.run_until(t_end, |t| progress(t / t_end));
-    run.record_work(&sim, start);
-    if let Err(e) = outcome {
-        run.failure = Some(e.to_string());
+    let Some(sim) = run.simulate::<2>(
+        (&init, vec![material], Domain::open(), config),
+        t_end,
+        progress,
+    )?
+    else {
         return Ok(failed(run));
-    }
+    };
     let p = sim.particles();
     let n = p.n_real();
     // particle ids follow `init`: the first ring starts on the left

@@ -29,7 +29,7 @@ use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::{full_contraction, von_mises};
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, Material, Simulation, SimulationConfig,
+    ArtificialViscosity, Boundary, DensityMethod, Domain, Material, SimulationConfig,
     SmoothingLength, Strength, Vector,
 };
 use std::f64::consts::PI;
@@ -256,20 +256,10 @@ fn run_one<const D: usize>(
         snapshot: None,
         profile: Vec::new(),
     };
-    let start = std::time::Instant::now();
-    let mut sim = match Simulation::<D>::new(&init, vec![material], domain, config) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok(failed(run));
-        }
-    };
-    let outcome = sim.run_until(t_end, |t| progress(t / t_end));
-    run.record_work(&sim, start);
-    if let Err(e) = outcome {
-        run.failure = Some(e.to_string());
+    let Some(sim) = run.simulate::<D>((&init, vec![material], domain, config), t_end, progress)?
+    else {
         return Ok(failed(run));
-    }
+    };
     let p = sim.particles();
     let n = p.n_real();
     let radial = |i: usize| p.position[i].rows(0, D - 1).norm();
