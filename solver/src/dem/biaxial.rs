@@ -1,15 +1,168 @@
-//! The biaxial test on a prepared disc sample: rigid platens (the bottom and top walls) close at
-//! a constant speed while the side walls are servo-controlled to hold the confining stress σ3
-//! (rigid servo walls stand in here for the flexible membrane of the source paper). Records
-//! axial strain, volumetric strain, σ1 and σ3 along the way.
+//! The biaxial test on a moist disc sample, as in the source paper (seed 003): a graded sample
+//! is prepared by radius expansion inside four rigid walls, its pore water is put into bridges
+//! at the contacts, the side walls are replaced by a membrane (a chain of particles smaller
+//! than the smallest grain) through which the confining stress σ3 acts as forces, and rigid
+//! platens (the bottom and top walls) close at a constant speed. Records axial strain,
+//! volumetric strain, σ1 and σ3 along the way.
+//!
+//! Stresses are forces over the layer thickness ([`Discs::layer_thickness`], one mean grain
+//! diameter); strains are compression positive.
 
-use super::discs::Discs;
+use super::capillary::{
+    bridge_force as capillary_force, effective_radius, BridgeLaw, Liquid, RuptureCriterion,
+};
+use super::discs::{ContactModel, Discs, Wall, Wetting};
+use super::sample::{expand_to_stress, graded_diameters, place_without_overlap, SplitMix64};
 use crate::error::SolverError;
+use crate::Vector;
+
+/// The membrane: two chains of particles, one per side, joined by tension-only links, with the
+/// confining stress applied to each particle as the pressure on its share of the chain. The
+/// links keep the particles from parting (no grain slips through) but go slack as the platens
+/// close, so the membrane itself carries no axial load (a rubber membrane's is small too).
+#[derive(Clone, Debug)]
+pub struct Membrane {
+    /// Particle indices of each side in counter-clockwise order around the sample: the right
+    /// side from bottom to top, the left side from top to bottom. Each chain's ends move with
+    /// the platens.
+    sides: [Vec<usize>; 2],
+    radius: f64,
+    /// Rest length of a link (m).
+    rest_length: f64,
+    /// Link stiffness in tension (N/m).
+    stiffness: f64,
+}
+
+impl Membrane {
+    /// Replaces the side walls of a sample prepared in a box (walls in the order left, right,
+    /// bottom, top) by chains of particles of `radius`, touching one another from platen to
+    /// platen just outside where the walls stood. The walls left are the platens: bottom (0)
+    /// and top (1). Each membrane particle has the mass of the smallest grain, so the stable
+    /// step stays the grains', and its links the contact stiffness.
+    pub fn wrap(discs: &mut Discs, radius: f64) -> Result<Self, SolverError> {
+        let r_min = discs.radius[..discs.grains()]
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        if !(radius > 0.0 && radius < r_min) {
+            return Err(SolverError::invalid(
+                "membrane particle radius",
+                radius,
+                &format!("> 0 and below the smallest grain's radius {r_min:e} m"),
+            ));
+        }
+        if discs.walls.len() != 4 {
+            return Err(SolverError::invalid(
+                "walls",
+                discs.walls.len(),
+                "4 (left, right, bottom, top) to wrap a prepared sample",
+            ));
+        }
+        let (left, right) = (discs.walls[0].point[0], discs.walls[1].point[0]);
+        let (bottom, top) = (discs.walls[2].point[1], discs.walls[3].point[1]);
+        let span = top - bottom - 2.0 * radius;
+        let links = (span / (2.0 * radius)).ceil() as usize;
+        let rest_length = span / links as f64;
+        let m_min = (0..discs.grains())
+            .map(|k| discs.mass[k])
+            .fold(f64::INFINITY, f64::min);
+        let mut chain = |x: f64, upward: bool| -> Vec<usize> {
+            (0..=links)
+                .map(|k| {
+                    let y = if upward {
+                        bottom + radius + k as f64 * rest_length
+                    } else {
+                        top - radius - k as f64 * rest_length
+                    };
+                    discs.add_boundary_particle(Vector::<2>::new(x, y), radius, m_min)
+                })
+                .collect()
+        };
+        let sides = [chain(right + radius, true), chain(left - radius, false)];
+        discs.walls.drain(0..2);
+        discs.wall_force.drain(0..2);
+        Ok(Self {
+            sides,
+            radius,
+            rest_length,
+            stiffness: 0.01 * discs.normal_stiffness(),
+        })
+    }
+
+    /// The chain ends: (particle, platen) pairs, platen 0 bottom and 1 top.
+    fn ends(&self) -> [(usize, usize); 4] {
+        let [right, left] = &self.sides;
+        [
+            (right[0], 0),
+            (right[right.len() - 1], 1),
+            (left[0], 1),
+            (left[left.len() - 1], 0),
+        ]
+    }
+
+    /// Adds the link tensions and the confining pressure (force per unit length `line_load` =
+    /// σ3 × layer thickness) to the membrane particles, and holds each chain end at its
+    /// platen's vertical speed (its vertical force is dropped).
+    pub fn add_forces(&self, discs: &mut Discs, line_load: f64) {
+        for side in &self.sides {
+            for link in side.windows(2) {
+                let (a, b) = (link[0], link[1]);
+                let d = discs.position[b] - discs.position[a];
+                let stretch = d.norm() - self.rest_length;
+                if stretch > 0.0 {
+                    let pull = d.normalize() * (self.stiffness * stretch);
+                    discs.force[a] += pull;
+                    discs.force[b] -= pull;
+                }
+            }
+            // the pressure on each particle's share of the chain, half of each adjacent link:
+            // rotating the chord counter-clockwise points it into the sample
+            for (k, &p) in side.iter().enumerate() {
+                let previous = side[k.saturating_sub(1)];
+                let next = side[(k + 1).min(side.len() - 1)];
+                let chord = discs.position[next] - discs.position[previous];
+                discs.force[p] += Vector::<2>::new(-chord[1], chord[0]) * (0.5 * line_load);
+            }
+        }
+        for (p, platen) in self.ends() {
+            discs.force[p][1] = 0.0;
+            discs.velocity[p][1] = discs.walls[platen].velocity[1];
+        }
+    }
+
+    /// The polygon through the chains' centres, counter-clockwise (the platens close it).
+    pub fn outline(&self, discs: &Discs) -> Vec<Vector<2>> {
+        self.sides
+            .iter()
+            .flatten()
+            .map(|&k| discs.position[k])
+            .collect()
+    }
+
+    /// The sample's area: the [`Self::outline`] polygon less the strip of one particle radius
+    /// between each chain's centre line and its inner edge.
+    pub fn enclosed_area(&self, discs: &Discs) -> f64 {
+        let ring = self.outline(discs);
+        let shoelace: f64 = (0..ring.len())
+            .map(|k| {
+                let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+                a[0] * b[1] - a[1] * b[0]
+            })
+            .sum();
+        let chain_length: f64 = self
+            .sides
+            .iter()
+            .flat_map(|side| side.windows(2))
+            .map(|link| (discs.position[link[1]] - discs.position[link[0]]).norm())
+            .sum();
+        0.5 * shoelace - self.radius * chain_length
+    }
+}
 
 /// The loading.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Loading {
-    /// σ3 held on the side walls (Pa, unit thickness).
+    /// σ3 applied through the membrane (Pa).
     pub confining_stress: f64,
     /// Each platen's speed towards the other (m/s).
     pub platen_speed: f64,
@@ -26,80 +179,333 @@ pub struct BiaxialState {
     pub volumetric_strain: f64,
     /// Axial stress on the platens (Pa).
     pub sigma1: f64,
-    /// Lateral stress on the side walls (Pa).
+    /// Lateral stress applied through the membrane (Pa).
     pub sigma3: f64,
 }
 
-/// The sample's stresses from the wall forces (walls in the order left, right, bottom, top):
-/// σ3 on the side walls over the height, σ1 on the platens over the width.
-fn wall_stresses(discs: &Discs) -> (f64, f64, f64, f64) {
-    let w = &discs.walls;
-    let width = w[1].point[0] - w[0].point[0];
-    let height = w[3].point[1] - w[2].point[1];
-    let f = &discs.wall_force;
-    let sigma3 = 0.5 * (f[0][0].abs() + f[1][0].abs()) / height;
-    let sigma1 = 0.5 * (f[2][1].abs() + f[3][1].abs()) / width;
-    (sigma1, sigma3, width, height)
+/// Steps over which the platen force is averaged, both to judge consolidation and for each
+/// record (a single step's force flickers with the contacts that open and close).
+const WINDOW: usize = 500;
+
+/// Windows of consolidation after which the test gives up.
+const MAX_CONSOLIDATION_WINDOWS: usize = 400;
+
+/// The axial stress: the mean platen force over the mean width (area over height) and the
+/// layer thickness.
+fn axial_stress(discs: &Discs, membrane: &Membrane) -> f64 {
+    let height = discs.walls[1].point[1] - discs.walls[0].point[1];
+    let force = 0.5 * (discs.wall_force[0][1].abs() + discs.wall_force[1][1].abs());
+    force * height / (membrane.enclosed_area(discs) * discs.layer_thickness())
 }
 
-/// Runs the test from the current state (the sample already confined at about σ3). Each side
-/// wall is servo-controlled (the PFC rule): it moves inward at v = G (σ3_target − σ3) with
-/// G = α h/(k_n N_c Δt), N_c the discs touching it, so that one step's move changes its stress
-/// by α = 0.5 of the error; the speed is capped at twice the platen speed. Uncapped, the wall
-/// chattered, and the dashpot (repulsive only) pushed the mean σ3 to twice the target
-/// (measured 183 Pa for 100 Pa); capped, 102 Pa.
-pub fn run_biaxial(discs: &mut Discs, loading: Loading) -> Result<Vec<BiaxialState>, SolverError> {
-    if discs.walls.len() != 4 {
-        return Err(SolverError::invalid(
-            "walls",
-            discs.walls.len(),
-            "4 (left, right, bottom, top)",
-        ));
+/// Runs the test on a wrapped sample. First isotropic consolidation: the platens are servo
+/// controlled (speed ∝ σ3 − σ1, at most a tenth of the loading speed) until the axial stress,
+/// averaged over a window, has stayed within 2 % of σ3 for five windows in a row: a packing
+/// expanded between rigid walls keeps rearranging for thousands of steps, and without this it
+/// creeps under the membrane while being loaded. Then the platens close at the loading speed
+/// until the axial strain is reached; each record holds the window's mean σ1.
+pub fn run_biaxial(
+    discs: &mut Discs,
+    membrane: &Membrane,
+    loading: Loading,
+) -> Result<Vec<BiaxialState>, SolverError> {
+    let checks = [
+        ("confining stress", loading.confining_stress),
+        ("platen speed", loading.platen_speed),
+        ("axial strain", loading.axial_strain),
+    ];
+    for (field, value) in checks {
+        if !(value > 0.0 && value.is_finite()) {
+            return Err(SolverError::invalid(field, value, "finite and > 0"));
+        }
     }
-    if !(loading.confining_stress > 0.0 && loading.platen_speed > 0.0 && loading.axial_strain > 0.0)
-    {
-        return Err(SolverError::invalid(
-            "biaxial loading",
-            format!("{loading:?}"),
-            "positive confining stress, platen speed and axial strain",
-        ));
+    if loading.record_every == 0 {
+        return Err(SolverError::invalid("record every", 0, "≥ 1 step"));
     }
     let dt = discs.critical_time_step(0.2);
-    let stiffness = discs.normal_stiffness();
-    discs.compute_forces(0.0);
-    let (_, _, width0, height0) = wall_stresses(discs);
-    let area0 = width0 * height0;
-    discs.walls[2].velocity[1] = loading.platen_speed;
-    discs.walls[3].velocity[1] = -loading.platen_speed;
+    let sigma3 = loading.confining_stress;
+    let line_load = sigma3 * discs.layer_thickness();
+    let step_once = |discs: &mut Discs| -> Result<f64, SolverError> {
+        discs.compute_forces(dt);
+        membrane.add_forces(discs, line_load);
+        let sigma1 = axial_stress(discs, membrane);
+        discs.advance(dt)?;
+        Ok(sigma1)
+    };
+    let mut steady = 0;
+    for window in 0.. {
+        if window == MAX_CONSOLIDATION_WINDOWS {
+            return Err(SolverError::invalid(
+                "consolidation",
+                format!("σ1 not within 2 % of σ3 = {sigma3} Pa after {window} windows"),
+                "a sample closer to equilibrium",
+            ));
+        }
+        let mut mean = 0.0;
+        for _ in 0..WINDOW {
+            let sigma1 = step_once(discs)?;
+            mean += sigma1 / WINDOW as f64;
+            let speed = 0.1 * loading.platen_speed * ((sigma3 - sigma1) / sigma3).clamp(-1.0, 1.0);
+            discs.walls[0].velocity[1] = speed;
+            discs.walls[1].velocity[1] = -speed;
+        }
+        steady = if (mean / sigma3 - 1.0).abs() < 0.02 {
+            steady + 1
+        } else {
+            0
+        };
+        if steady == 5 {
+            break;
+        }
+    }
+    let height = |discs: &Discs| discs.walls[1].point[1] - discs.walls[0].point[1];
+    let (height0, area0) = (height(discs), membrane.enclosed_area(discs));
+    discs.walls[0].velocity[1] = loading.platen_speed;
+    discs.walls[1].velocity[1] = -loading.platen_speed;
     let mut records = Vec::new();
-    let mut step = 0usize;
+    let (mut sum, mut count) = (0.0, 0);
     loop {
-        let (sigma1, sigma3, width, height) = wall_stresses(discs);
-        let axial = 1.0 - height / height0;
-        if step.is_multiple_of(loading.record_every) {
+        sum += step_once(discs)?;
+        count += 1;
+        let axial = 1.0 - height(discs) / height0;
+        let done = axial >= loading.axial_strain;
+        if count == loading.record_every || done {
             records.push(BiaxialState {
                 axial_strain: axial,
-                volumetric_strain: 1.0 - width * height / area0,
-                sigma1,
+                volumetric_strain: 1.0 - membrane.enclosed_area(discs) / area0,
+                sigma1: sum / count as f64,
                 sigma3,
             });
+            (sum, count) = (0.0, 0);
         }
-        if axial >= loading.axial_strain {
+        if done {
             return Ok(records);
         }
-        for (w, inward) in [(0usize, 1.0), (1, -1.0)] {
-            let wall = discs.walls[w];
-            let touching = (0..discs.len())
-                .filter(|&k| (discs.position[k] - wall.point).dot(&wall.normal) < discs.radius[k])
-                .count()
-                .max(1);
-            let gain = 0.5 * height / (stiffness * touching as f64 * dt);
-            let sigma = discs.wall_force[w][0].abs() / height;
-            let speed = (gain * (loading.confining_stress - sigma))
-                .clamp(-2.0 * loading.platen_speed, 2.0 * loading.platen_speed);
-            discs.walls[w].velocity[0] = inward * speed;
-        }
-        discs.step(dt)?;
-        step += 1;
     }
+}
+
+/// The liquid for a degree of saturation S: S times the pore volume, taken as n/(1 − n) times
+/// the grains' sphere volume with n the porosity in the plane (the rule of the notes,
+/// `dem-capillary-notes.md` §3: a 2D packing of spheres; a slab of the layer thickness would
+/// give each bridge several times the pendular range of volumes).
+pub fn liquid_for_saturation(discs: &Discs, sample_area: f64, saturation: f64) -> f64 {
+    let porosity = 1.0 - discs.grain_area() / sample_area;
+    saturation * porosity / (1.0 - porosity) * discs.grain_volume()
+}
+
+/// Everything that defines one biaxial test.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BiaxialTest {
+    pub grains: usize,
+    pub seed: u64,
+    /// Smallest and largest diameter drawn (m), graded as [`graded_diameters`].
+    pub diameters: (f64, f64),
+    /// Grain density (kg/m³).
+    pub density: f64,
+    pub contact: ContactModel,
+    /// Degree of saturation of the pores (0 for dry).
+    pub saturation: f64,
+    pub surface_tension: f64,
+    /// θ (rad).
+    pub contact_angle: f64,
+    pub law: BridgeLaw,
+    pub rupture: RuptureCriterion,
+    /// Membrane particle radius over the smallest grain radius (< 1).
+    pub membrane_radius_ratio: f64,
+    pub loading: Loading,
+}
+
+/// What the sample looked like when loading began.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreparedSample {
+    /// Mean wall stress where the expansion stopped (Pa).
+    pub wall_stress: f64,
+    pub width: f64,
+    pub height: f64,
+    pub porosity: f64,
+    pub void_ratio: f64,
+    pub coordination: f64,
+    pub bridges: usize,
+    /// Mean bridge volume over R³ of its pair (R the harmonic mean radius).
+    pub mean_bridge_volume_ratio: f64,
+    /// Mean capillary force of the bridges at their prepared gaps (N).
+    pub mean_bridge_force: f64,
+    pub layer_thickness: f64,
+    pub preparation_steps: usize,
+}
+
+/// A finished test: the sample, the records, and the steps taken.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BiaxialRun {
+    pub sample: PreparedSample,
+    pub records: Vec<BiaxialState>,
+    pub particles: usize,
+    pub membrane_particles: usize,
+    pub time_step: f64,
+}
+
+/// The porosity the box is sized for (the expansion then grows the grains to the stress; a
+/// graded frictional packing jams near 0.2, so the diameters end within a few per cent of
+/// those drawn).
+const EXPECTED_POROSITY: f64 = 0.2;
+
+impl BiaxialTest {
+    /// The source paper's test (seed 003) with this project's contact constants: diameters
+    /// 0.1–0.5 mm, quartz density 2650 kg/m³, water at 15 °C (γ 0.0735 N/m, θ 0), platens at
+    /// 1.27 cm/s each to 10 % axial strain. k_n = 1000 N/m keeps the overlaps near 0.1 % of a
+    /// diameter at kilopascal stresses (k_n/(σ t) ≈ 1000 at 4 kPa); k_t = k_n/2; μ = 0.5;
+    /// ζ = 0.3; local damping 0.7 (PFC's default for quasi-static loading); the membrane
+    /// particles are 0.8 of the smallest grain. None of these is the source paper's (its
+    /// text does not give them).
+    pub fn source_paper(grains: usize, seed: u64, saturation: f64, confining_stress: f64) -> Self {
+        Self {
+            grains,
+            seed,
+            diameters: (1e-4, 5e-4),
+            density: 2650.0,
+            contact: ContactModel {
+                normal_stiffness: 1e3,
+                tangential_stiffness: 5e2,
+                friction: 0.5,
+                damping_ratio: 0.3,
+                local_damping: 0.7,
+            },
+            saturation,
+            surface_tension: 0.0735,
+            contact_angle: 0.0,
+            law: BridgeLaw::WillettFitted,
+            rupture: RuptureCriterion::Lian,
+            membrane_radius_ratio: 0.8,
+            loading: Loading {
+                confining_stress,
+                platen_speed: 0.0127,
+                axial_strain: 0.1,
+                record_every: WINDOW,
+            },
+        }
+    }
+}
+
+/// Prepares the dry sample: graded diameters placed at 70 % size in a box twice as high as
+/// wide (sized for a porosity of 0.2), then radius expansion to σ3. Returns the grains in their
+/// box (walls left, right, bottom, top), their films empty; the saturation is not used (one
+/// prepared sample serves every saturation).
+pub fn prepare_sample(test: &BiaxialTest) -> Result<(Discs, PreparedSample), SolverError> {
+    let mut rng = SplitMix64::new(test.seed);
+    let (d_min, d_max) = test.diameters;
+    let radii: Vec<f64> = graded_diameters(test.grains, d_min, d_max, &mut rng)?
+        .iter()
+        .map(|d| 0.5 * d)
+        .collect();
+    let solid: f64 = radii.iter().map(|r| std::f64::consts::PI * r * r).sum();
+    let width = (solid / (1.0 - EXPECTED_POROSITY) / 2.0).sqrt();
+    let height = 2.0 * width;
+    // placed at 70 % size, loose enough for random placement to find room
+    let centres = place_without_overlap(&radii, (width, height), 0.7, 5000, &mut rng)?;
+    let wetting = Some(Wetting {
+        law: test.law,
+        rupture: test.rupture,
+        liquid: Liquid {
+            volume: 0.0,
+            surface_tension: test.surface_tension,
+            contact_angle: test.contact_angle,
+        },
+    });
+    let small: Vec<f64> = radii.iter().map(|r| 0.7 * r).collect();
+    let mut discs = Discs::new(centres, small, test.density, test.contact, wetting)?;
+    for (point, normal) in [
+        ((0.0, 0.0), (1.0, 0.0)),
+        ((width, 0.0), (-1.0, 0.0)),
+        ((0.0, 0.0), (0.0, 1.0)),
+        ((0.0, height), (0.0, -1.0)),
+    ] {
+        discs.add_wall(Wall {
+            point: Vector::<2>::new(point.0, point.1),
+            normal: Vector::<2>::new(normal.0, normal.1),
+            velocity: Vector::zeros(),
+        });
+    }
+    let sigma3 = test.loading.confining_stress;
+    let expansion = expand_to_stress(&mut discs, (width, height), sigma3, (0.002, 500, 2000))?;
+    let sample = PreparedSample {
+        wall_stress: expansion.wall_stress,
+        width,
+        height,
+        porosity: expansion.porosity,
+        void_ratio: expansion.porosity / (1.0 - expansion.porosity),
+        coordination: expansion.coordination,
+        bridges: 0,
+        mean_bridge_volume_ratio: 0.0,
+        mean_bridge_force: 0.0,
+        layer_thickness: discs.layer_thickness(),
+        preparation_steps: expansion.steps,
+    };
+    Ok((discs, sample))
+}
+
+/// Puts the pore water of `test.saturation` into bridges at the contacts of a prepared sample
+/// ([`liquid_for_saturation`], shared by [`Discs::distribute_liquid`]) and notes their number,
+/// mean V/R³ and mean force at the prepared gaps. Nothing to do when dry.
+pub fn add_pore_water(
+    discs: &mut Discs,
+    sample: &mut PreparedSample,
+    test: &BiaxialTest,
+) -> Result<(), SolverError> {
+    if !(0.0..=0.3).contains(&test.saturation) {
+        return Err(SolverError::invalid(
+            "saturation",
+            test.saturation,
+            "0 to 0.3 (the pendular regime)",
+        ));
+    }
+    if test.saturation == 0.0 {
+        return Ok(());
+    }
+    discs.compute_forces(0.0);
+    let water = liquid_for_saturation(discs, sample.width * sample.height, test.saturation);
+    discs.distribute_liquid(water)?;
+    let liquid = |volume| Liquid {
+        volume,
+        surface_tension: test.surface_tension,
+        contact_angle: test.contact_angle,
+    };
+    let (mut count, mut volume_ratio, mut force) = (0, 0.0, 0.0);
+    for ((i, j), v) in discs.bridge_volumes() {
+        let (ri, rj) = (discs.radius[i], discs.radius[j]);
+        let radius = effective_radius(ri, rj);
+        let gap = (discs.position[j] - discs.position[i]).norm() - ri - rj;
+        count += 1;
+        volume_ratio += v / radius.powi(3);
+        force += capillary_force(test.law, &liquid(v), radius, gap);
+    }
+    sample.bridges = count;
+    sample.mean_bridge_volume_ratio = volume_ratio / count.max(1) as f64;
+    sample.mean_bridge_force = force / count.max(1) as f64;
+    Ok(())
+}
+
+/// Wets a prepared sample ([`add_pore_water`]), puts the membrane in place of its side walls
+/// and runs the test ([`run_biaxial`]).
+pub fn shear_prepared(
+    mut discs: Discs,
+    mut sample: PreparedSample,
+    test: &BiaxialTest,
+) -> Result<BiaxialRun, SolverError> {
+    add_pore_water(&mut discs, &mut sample, test)?;
+    let r_min = discs.radius.iter().cloned().fold(f64::INFINITY, f64::min);
+    let membrane = Membrane::wrap(&mut discs, test.membrane_radius_ratio * r_min)?;
+    let records = run_biaxial(&mut discs, &membrane, test.loading)?;
+    Ok(BiaxialRun {
+        sample,
+        records,
+        particles: discs.len(),
+        membrane_particles: discs.len() - discs.grains(),
+        time_step: discs.critical_time_step(0.2),
+    })
+}
+
+/// The whole test: [`prepare_sample`], then [`shear_prepared`].
+pub fn run_biaxial_test(test: &BiaxialTest) -> Result<BiaxialRun, SolverError> {
+    let (discs, sample) = prepare_sample(test)?;
+    shear_prepared(discs, sample, test)
 }

@@ -1,13 +1,18 @@
-//! 2D discrete elements: rigid discs with a linear normal spring, a tangential spring capped by
-//! Coulomb friction (Cundall & Strack 1979), viscous normal damping and Cundall's local
-//! damping, frictionless plane walls moving at prescribed velocities, and pendular liquid
-//! bridges ([`super::capillary`]) formed at contact and broken at the rupture gap. Explicit
-//! leapfrog in time with the critical step √(m/k_n) times a safety factor.
+//! 2D discrete elements: rigid spheres moving in a plane (a monolayer; the "2D discs" of PFC2D
+//! with sphere masses) with a linear normal spring, a tangential spring capped by Coulomb
+//! friction (Cundall & Strack 1979), viscous normal damping and Cundall's local damping,
+//! frictionless plane walls moving at prescribed velocities, and pendular liquid bridges
+//! ([`super::capillary`]) formed at contact and broken at the rupture gap. Explicit leapfrog in
+//! time with the critical step √(m/k_n) times a safety factor.
 //!
-//! Contacts are found with the SPH neighbour search: a disc's "smoothing length" is its
-//! diameter plus twice the largest bridge reach, so every pair that can touch or hold a bridge
-//! is listed. Contact and bridge state live in ordered maps keyed by the pair, so the result
-//! does not depend on the thread count.
+//! The grains may be joined by boundary particles (a membrane, [`super::biaxial`]): those touch
+//! grains without friction or liquid and ignore one another.
+//!
+//! Pairs come from a Verlet list: the SPH neighbour search lists every pair within the contact
+//! distance plus the largest bridge's rupture gap plus a skin, and the list is rebuilt only
+//! when some particle has moved more than half the skin. Contact and bridge state live in the
+//! list, sorted by pair, and the force loop runs in that order, so the result does not depend
+//! on the thread count.
 
 use super::capillary::{
     bridge_force, effective_radius, rupture_gap, BridgeLaw, Liquid, RuptureCriterion,
@@ -15,7 +20,6 @@ use super::capillary::{
 use crate::error::SolverError;
 use crate::neighbours::{find_neighbours, PairReach};
 use crate::Vector;
-use std::collections::BTreeMap;
 
 /// The contact law shared by every pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,7 +83,8 @@ pub struct Wall {
 }
 
 /// Wet grains: the bridge law, where bridges break, and the liquid: its surface tension and
-/// contact angle, and as `liquid.volume` the film each grain carries at the start.
+/// contact angle, and as `liquid.volume` the film each grain carries at the start (0 for
+/// grains whose liquid is put into bridges by [`Discs::distribute_liquid`]).
 ///
 /// The liquid is conserved, bridge by bridge (Mani, Kadau & Herrmann 2013 keep it the same
 /// way; the halves are this project's rule): a bridge forms when two grains touch and takes
@@ -94,13 +99,31 @@ pub struct Wetting {
     pub liquid: Liquid,
 }
 
-/// A touching pair's tangential spring.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Contact {
+/// One listed pair: its tangential spring while the two touch, and the liquid of its bridge.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Pair {
+    i: u32,
+    j: u32,
+    touching: bool,
     tangential: Vector<2>,
+    /// The bridge's liquid volume (m³); 0 where there is none.
+    bridge: f64,
 }
 
-/// The discs (structure of arrays) and their walls, contacts and bridges.
+impl Pair {
+    fn new(i: u32, j: u32) -> Self {
+        Self {
+            i,
+            j,
+            touching: false,
+            tangential: Vector::zeros(),
+            bridge: 0.0,
+        }
+    }
+}
+
+/// The grains (structure of arrays), then the boundary particles, and their walls, pairs and
+/// bridges.
 #[derive(Clone, Debug)]
 pub struct Discs {
     pub position: Vec<Vector<2>>,
@@ -113,26 +136,31 @@ pub struct Discs {
     pub force: Vec<Vector<2>>,
     pub torque: Vec<f64>,
     pub walls: Vec<Wall>,
-    /// Total force each wall receives from the discs (N).
+    /// Total force each wall receives from the particles (N).
     pub wall_force: Vec<Vector<2>>,
-    model: ContactModel,
-    wetting: Option<Wetting>,
-    contacts: BTreeMap<(u32, u32), Contact>,
-    /// The pairs holding a bridge, and its liquid volume (m³).
-    bridges: BTreeMap<(u32, u32), f64>,
-    /// Each grain's liquid film (m³), not in any bridge.
+    /// Each grain's liquid film (m³), not in any bridge (0 for boundary particles).
     pub film: Vec<f64>,
     pub time: f64,
+    /// Particles 0..grains are grains; the rest are boundary particles.
+    grains: usize,
+    model: ContactModel,
+    wetting: Option<Wetting>,
+    /// The Verlet list, sorted by (i, j), i < j.
+    pairs: Vec<Pair>,
+    /// Positions when the list was built; `None` forces a rebuild.
+    listed_at: Option<Vec<Vector<2>>>,
+    /// The list's margin beyond contact and rupture (m).
+    skin: f64,
 }
 
-/// The unit-thickness disc of radius r and density ρ: mass ρπr², inertia mr²/2.
-pub fn disc_mass(radius: f64, density: f64) -> (f64, f64) {
-    let mass = density * std::f64::consts::PI * radius * radius;
-    (mass, 0.5 * mass * radius * radius)
+/// A sphere of radius r and density ρ: mass 4πr³ρ/3, inertia 2mr²/5.
+pub fn sphere_mass(radius: f64, density: f64) -> (f64, f64) {
+    let mass = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3) * density;
+    (mass, 0.4 * mass * radius * radius)
 }
 
 impl Discs {
-    /// Discs at rest at `positions` with `radii` and density ρ (unit thickness).
+    /// Grains at rest at `positions` with `radii` and density ρ.
     pub fn new(
         positions: Vec<Vector<2>>,
         radii: Vec<f64>,
@@ -142,7 +170,13 @@ impl Discs {
     ) -> Result<Self, SolverError> {
         model.validate()?;
         if let Some(w) = &wetting {
-            w.liquid.validate()?;
+            // dry films are allowed: only the liquid's properties need checking
+            let volume = if w.liquid.volume == 0.0 {
+                1.0
+            } else {
+                w.liquid.volume
+            };
+            Liquid { volume, ..w.liquid }.validate()?;
         }
         if positions.len() != radii.len() || positions.is_empty() {
             return Err(SolverError::invalid(
@@ -167,7 +201,8 @@ impl Discs {
         }
         let n = positions.len();
         let (mass, inertia): (Vec<f64>, Vec<f64>) =
-            radii.iter().map(|&r| disc_mass(r, density)).unzip();
+            radii.iter().map(|&r| sphere_mass(r, density)).unzip();
+        let r_min = radii.iter().cloned().fold(f64::INFINITY, f64::min);
         Ok(Self {
             position: positions,
             velocity: vec![Vector::zeros(); n],
@@ -179,15 +214,20 @@ impl Discs {
             torque: vec![0.0; n],
             walls: Vec::new(),
             wall_force: Vec::new(),
-            model,
-            wetting,
-            contacts: BTreeMap::new(),
-            bridges: BTreeMap::new(),
             film: vec![wetting.map_or(0.0, |w| w.liquid.volume); n],
             time: 0.0,
+            grains: n,
+            model,
+            wetting,
+            pairs: Vec::new(),
+            listed_at: None,
+            // a fifth of the smallest radius: rebuilt every few thousand steps when loading
+            // quasi-statically, and a pair list only slightly longer than the contacts
+            skin: 0.2 * r_min,
         })
     }
 
+    /// All particles, grains and boundary.
     pub fn len(&self) -> usize {
         self.position.len()
     }
@@ -196,32 +236,78 @@ impl Discs {
         self.position.is_empty()
     }
 
-    /// Grows (or shrinks) every disc's radius by `factor`, keeping its density: mass ∝ r²,
-    /// inertia ∝ r⁴ (radius expansion).
-    pub fn scale_radii(&mut self, factor: f64) {
-        for k in 0..self.len() {
-            self.radius[k] *= factor;
-            self.mass[k] *= factor * factor;
-            self.inertia[k] *= factor.powi(4);
-        }
+    /// The number of grains (they come first).
+    pub fn grains(&self) -> usize {
+        self.grains
     }
 
-    /// Contacts per disc (with discs and walls), counting only discs with at least two (a
-    /// rattler carries no load).
+    /// Appends a boundary particle at rest: it touches grains without friction or liquid and
+    /// ignores other boundary particles. Returns its index.
+    pub fn add_boundary_particle(&mut self, position: Vector<2>, radius: f64, mass: f64) -> usize {
+        self.position.push(position);
+        self.velocity.push(Vector::zeros());
+        self.angular_velocity.push(0.0);
+        self.radius.push(radius);
+        self.mass.push(mass);
+        self.inertia.push(0.4 * mass * radius * radius);
+        self.force.push(Vector::zeros());
+        self.torque.push(0.0);
+        self.film.push(0.0);
+        self.listed_at = None;
+        self.len() - 1
+    }
+
+    /// The thickness of the layer the grains form, for stresses: one mean grain diameter.
+    pub fn layer_thickness(&self) -> f64 {
+        2.0 * self.radius[..self.grains].iter().sum::<f64>() / self.grains as f64
+    }
+
+    /// Area of the grains' cross-sections, Σπr² (m²).
+    pub fn grain_area(&self) -> f64 {
+        self.radius[..self.grains]
+            .iter()
+            .map(|r| std::f64::consts::PI * r * r)
+            .sum()
+    }
+
+    /// Volume of the grains, Σ4πr³/3 (m³).
+    pub fn grain_volume(&self) -> f64 {
+        self.radius[..self.grains]
+            .iter()
+            .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+            .sum()
+    }
+
+    /// Grows (or shrinks) every grain's radius by `factor`, keeping its density: mass ∝ r³,
+    /// inertia ∝ r⁵ (radius expansion).
+    pub fn scale_radii(&mut self, factor: f64) {
+        for k in 0..self.grains {
+            self.radius[k] *= factor;
+            self.mass[k] *= factor.powi(3);
+            self.inertia[k] *= factor.powi(5);
+        }
+        self.listed_at = None;
+    }
+
+    /// Contacts per grain (with grains, boundary particles and walls), counting only grains
+    /// with at least two (a rattler carries no load).
     pub fn coordination(&self) -> f64 {
-        let mut per_disc = vec![0usize; self.len()];
-        for &(i, j) in self.contacts.keys() {
-            per_disc[i as usize] += 1;
-            per_disc[j as usize] += 1;
+        let mut per_grain = vec![0usize; self.grains];
+        for pair in self.pairs.iter().filter(|p| p.touching) {
+            for k in [pair.i as usize, pair.j as usize] {
+                if k < self.grains {
+                    per_grain[k] += 1;
+                }
+            }
         }
         for wall in &self.walls {
-            for (k, count) in per_disc.iter_mut().enumerate() {
+            for (k, count) in per_grain.iter_mut().enumerate() {
                 if (self.position[k] - wall.point).dot(&wall.normal) < self.radius[k] {
                     *count += 1;
                 }
             }
         }
-        let carrying: Vec<usize> = per_disc.into_iter().filter(|&c| c >= 2).collect();
+        let carrying: Vec<usize> = per_grain.into_iter().filter(|&c| c >= 2).collect();
         carrying.iter().sum::<usize>() as f64 / carrying.len().max(1) as f64
     }
 
@@ -240,11 +326,12 @@ impl Discs {
 
     /// The number of pairs in contact (overlapping) and of bridges.
     pub fn counts(&self) -> (usize, usize) {
-        (self.contacts.len(), self.bridges.len())
+        let touching = self.pairs.iter().filter(|p| p.touching).count();
+        (touching, self.bridge_volumes().count())
     }
 
     /// The stable step: √(m_min/k_n) times `safety` (a lone spring's leapfrog limit is
-    /// 2√(m_eff/k); a disc among several contacts feels their sum, hence a safety ≤ 0.2).
+    /// 2√(m_eff/k); a particle among several contacts feels their sum, hence a safety ≤ 0.2).
     pub fn critical_time_step(&self, safety: f64) -> f64 {
         let m_min = self.mass.iter().cloned().fold(f64::INFINITY, f64::min);
         safety * (m_min / self.model.normal_stiffness).sqrt()
@@ -252,19 +339,20 @@ impl Discs {
 
     /// The liquid in bridges and films together (m³): constant while bridges form and break.
     pub fn total_liquid(&self) -> f64 {
-        self.bridges.values().sum::<f64>() + self.film.iter().sum::<f64>()
+        self.bridge_volumes().map(|(_, v)| v).sum::<f64>() + self.film.iter().sum::<f64>()
     }
 
     /// The liquid volume of each bridge, by pair.
     pub fn bridge_volumes(&self) -> impl Iterator<Item = ((usize, usize), f64)> + '_ {
-        self.bridges
+        self.pairs
             .iter()
-            .map(|(&(i, j), &v)| ((i as usize, j as usize), v))
+            .filter(|p| p.bridge > 0.0)
+            .map(|p| ((p.i as usize, p.j as usize), p.bridge))
     }
 
-    /// Puts `volume` (m³) into bridges at the pairs now in contact, shared in proportion to
-    /// their centre-to-centre distances, and empties the films (the source paper's rule for the
-    /// pore water of a prepared sample). An error if the grains are dry or none touch.
+    /// Puts `volume` (m³) into bridges at the grain pairs now in contact, shared in proportion
+    /// to their centre-to-centre distances, and empties the films (the source paper's rule for
+    /// the pore water of a prepared sample). An error if the grains are dry or none touch.
     pub fn distribute_liquid(&mut self, volume: f64) -> Result<(), SolverError> {
         if self.wetting.is_none() {
             return Err(SolverError::invalid(
@@ -280,9 +368,11 @@ impl Discs {
                 "finite and > 0 (m³)",
             ));
         }
+        let grains = self.grains as u32;
+        let wet = |p: &Pair| p.touching && p.j < grains;
         let distance =
-            |&(i, j): &(u32, u32)| (self.position[j as usize] - self.position[i as usize]).norm();
-        let total: f64 = self.contacts.keys().map(distance).sum();
+            |p: &Pair| (self.position[p.j as usize] - self.position[p.i as usize]).norm();
+        let total: f64 = self.pairs.iter().filter(|p| wet(p)).map(distance).sum();
         if total == 0.0 {
             return Err(SolverError::invalid(
                 "contacts",
@@ -290,104 +380,183 @@ impl Discs {
                 "at least one to hold liquid",
             ));
         }
-        self.bridges = self
-            .contacts
-            .keys()
-            .map(|key| (*key, volume * distance(key) / total))
+        let shares: Vec<f64> = self
+            .pairs
+            .iter()
+            .map(|p| {
+                if wet(p) {
+                    volume * distance(p) / total
+                } else {
+                    0.0
+                }
+            })
             .collect();
+        for (pair, share) in self.pairs.iter_mut().zip(shares) {
+            pair.bridge = share;
+        }
         self.film.iter_mut().for_each(|f| *f = 0.0);
+        // the list's reach grows with the largest bridge
+        self.listed_at = None;
         Ok(())
     }
 
-    /// The wetting and the liquid of a bridge of `volume`.
-    fn bridge_liquid(&self, volume: f64) -> Option<(Wetting, Liquid)> {
-        self.wetting.map(|w| (w, Liquid { volume, ..w.liquid }))
+    /// The largest rupture gap any bridge can reach: of the largest standing bridge or of one
+    /// the largest film could form (Willett's gap is largest at the smallest radius).
+    fn bridge_reach(&self) -> f64 {
+        let Some(w) = self.wetting else {
+            return 0.0;
+        };
+        let largest = self
+            .pairs
+            .iter()
+            .map(|p| p.bridge)
+            .chain(self.film.iter().copied())
+            .fold(0.0, f64::max);
+        if largest == 0.0 {
+            return 0.0;
+        }
+        let r_min = self.radius.iter().cloned().fold(f64::INFINITY, f64::min);
+        let liquid = Liquid {
+            volume: largest,
+            ..w.liquid
+        };
+        rupture_gap(w.rupture, &liquid, r_min)
+    }
+
+    /// Whether some particle has moved more than half the skin since the list was built (then
+    /// a pair not listed may have come within reach).
+    fn list_is_stale(&self) -> bool {
+        let Some(listed_at) = &self.listed_at else {
+            return true;
+        };
+        let limit = (0.5 * self.skin).powi(2);
+        self.position
+            .iter()
+            .zip(listed_at)
+            .any(|(x, x0)| (x - x0).norm_squared() > limit)
+    }
+
+    /// Lists every pair within r_i + r_j + bridge reach + skin, keeping the state of the pairs
+    /// listed before; a dropped pair's bridge (already beyond its rupture gap) returns its
+    /// liquid to the films.
+    fn rebuild_pairs(&mut self) {
+        let n = self.len();
+        let margin = self.bridge_reach() + self.skin;
+        // pairs within (reach_i + reach_j)/2 with reach = 2r + margin
+        let reach: Vec<f64> = self.radius.iter().map(|r| 2.0 * r + margin).collect();
+        let neighbours = find_neighbours(&self.position, &reach, 1.0, PairReach::MeanH, n);
+        let grains = self.grains;
+        let mut listed: Vec<(u32, u32)> = (0..n)
+            .flat_map(|i| {
+                neighbours
+                    .of(i)
+                    .filter(move |&j| j > i && i < grains)
+                    .map(move |j| (i as u32, j as u32))
+            })
+            .collect();
+        listed.sort_unstable();
+        let mut old = std::mem::take(&mut self.pairs).into_iter().peekable();
+        let mut pairs = Vec::with_capacity(listed.len());
+        for (i, j) in listed {
+            while let Some(dropped) = old.next_if(|p| (p.i, p.j) < (i, j)) {
+                self.return_liquid(&dropped);
+            }
+            match old.next_if(|p| (p.i, p.j) == (i, j)) {
+                Some(kept) => pairs.push(kept),
+                None => pairs.push(Pair::new(i, j)),
+            }
+        }
+        for dropped in old {
+            self.return_liquid(&dropped);
+        }
+        self.pairs = pairs;
+        self.listed_at = Some(self.position.clone());
+    }
+
+    /// A broken bridge gives half of its liquid back to each grain.
+    fn return_liquid(&mut self, pair: &Pair) {
+        self.film[pair.i as usize] += 0.5 * pair.bridge;
+        self.film[pair.j as usize] += 0.5 * pair.bridge;
     }
 
     /// Forces and torques of the current positions and velocities (contacts, bridges,
     /// walls); contact springs advance by `dt`; bridges form, keep or break (see [`Wetting`]).
     pub fn compute_forces(&mut self, dt: f64) {
-        let n = self.len();
-        for k in 0..n {
-            self.force[k] = Vector::zeros();
-            self.torque[k] = 0.0;
+        if self.list_is_stale() {
+            self.rebuild_pairs();
         }
-        // the search reaches every contact and every standing bridge (Willett's rupture gap
-        // is largest for the smallest radius)
-        let r_min = self.radius.iter().cloned().fold(f64::INFINITY, f64::min);
-        let margin = self
-            .bridges
-            .values()
-            .filter_map(|&v| self.bridge_liquid(v))
-            .map(|(w, liquid)| rupture_gap(w.rupture, &liquid, r_min))
-            .fold(0.0, f64::max);
-        // pairs within r_i + r_j + margin: (reach_i + reach_j)/2 with reach = 2r + margin
-        let reach: Vec<f64> = self.radius.iter().map(|r| 2.0 * r + margin).collect();
-        let neighbours = find_neighbours(&self.position, &reach, 1.0, PairReach::MeanH, n);
-        let mut contacts = BTreeMap::new();
-        let mut bridges = BTreeMap::new();
-        for i in 0..n {
-            for j in neighbours.of(i).filter(|&j| j > i) {
-                let key = (i as u32, j as u32);
-                let (ri, rj) = (self.radius[i], self.radius[j]);
-                let d_vec = self.position[j] - self.position[i];
-                let d = d_vec.norm();
-                let normal = d_vec / d;
-                let gap = d - ri - rj;
-                if gap < 0.0 {
-                    let previous = self.contacts.get(&key).copied().unwrap_or_default();
-                    let contact = self.contact_force(i, j, normal, -gap, previous, dt);
-                    contacts.insert(key, contact);
-                }
-                if self.wetting.is_none() {
-                    continue;
-                }
-                // a standing bridge keeps its liquid; a new one forms at contact from the films
-                let volume = match self.bridges.get(&key) {
-                    Some(&v) => v,
-                    None if gap < 0.0 && self.film[i] + self.film[j] > 0.0 => {
-                        let v = 0.5 * (self.film[i] + self.film[j]);
-                        self.film[i] *= 0.5;
-                        self.film[j] *= 0.5;
-                        v
-                    }
-                    None => continue,
-                };
-                let (w, liquid) = self.bridge_liquid(volume).expect("wet grains");
-                let radius = effective_radius(ri, rj);
-                if gap < rupture_gap(w.rupture, &liquid, radius) {
-                    let f = bridge_force(w.law, &liquid, radius, gap) * normal;
-                    self.force[i] += f;
-                    self.force[j] -= f;
-                    bridges.insert(key, volume);
-                }
-            }
+        self.force.iter_mut().for_each(|f| *f = Vector::zeros());
+        self.torque.iter_mut().for_each(|t| *t = 0.0);
+        for p in 0..self.pairs.len() {
+            let pair = self.pairs[p];
+            self.pairs[p] = self.pair_force(pair, dt);
         }
-        // every bridge that did not survive (beyond its rupture gap, or out of the search
-        // altogether) gives half of its liquid back to each grain
-        for (&(i, j), &volume) in &self.bridges {
-            if !bridges.contains_key(&(i, j)) {
-                self.film[i as usize] += 0.5 * volume;
-                self.film[j as usize] += 0.5 * volume;
-            }
-        }
-        self.contacts = contacts;
-        self.bridges = bridges;
         self.wall_forces();
-        self.local_damping();
+    }
+
+    /// The contact and bridge forces of one pair, added to both; returns its new state.
+    fn pair_force(&mut self, mut pair: Pair, dt: f64) -> Pair {
+        let (i, j) = (pair.i as usize, pair.j as usize);
+        let (ri, rj) = (self.radius[i], self.radius[j]);
+        let d_vec = self.position[j] - self.position[i];
+        let d = d_vec.norm();
+        let normal = d_vec / d;
+        let gap = d - ri - rj;
+        let grain_pair = j < self.grains;
+        let previous = if pair.touching {
+            pair.tangential
+        } else {
+            Vector::zeros()
+        };
+        pair.touching = gap < 0.0;
+        pair.tangential = if pair.touching {
+            let friction = if grain_pair { self.model.friction } else { 0.0 };
+            self.contact_force(i, j, normal, -gap, previous, friction, dt)
+        } else {
+            Vector::zeros()
+        };
+        let Some(w) = self.wetting.filter(|_| grain_pair) else {
+            return pair;
+        };
+        // a standing bridge keeps its liquid; a new one forms at contact from the films
+        if pair.bridge == 0.0 && pair.touching && self.film[i] + self.film[j] > 0.0 {
+            pair.bridge = 0.5 * (self.film[i] + self.film[j]);
+            self.film[i] *= 0.5;
+            self.film[j] *= 0.5;
+        }
+        if pair.bridge == 0.0 {
+            return pair;
+        }
+        let liquid = Liquid {
+            volume: pair.bridge,
+            ..w.liquid
+        };
+        let radius = effective_radius(ri, rj);
+        if gap < rupture_gap(w.rupture, &liquid, radius) {
+            let f = bridge_force(w.law, &liquid, radius, gap) * normal;
+            self.force[i] += f;
+            self.force[j] -= f;
+        } else {
+            self.return_liquid(&pair);
+            pair.bridge = 0.0;
+        }
+        pair
     }
 
     /// The contact force between overlapping i and j (overlap δ > 0, unit normal from i to
-    /// j), added to both; returns the advanced tangential spring.
+    /// j) with Coulomb coefficient `friction`, added to both; returns the advanced tangential
+    /// spring.
+    #[allow(clippy::too_many_arguments)]
     fn contact_force(
         &mut self,
         i: usize,
         j: usize,
         normal: Vector<2>,
         overlap: f64,
-        previous: Contact,
+        previous: Vector<2>,
+        friction: f64,
         dt: f64,
-    ) -> Contact {
+    ) -> Vector<2> {
         let m = &self.model;
         let tangent = Vector::<2>::new(-normal[1], normal[0]);
         let (ri, rj) = (self.radius[i], self.radius[j]);
@@ -400,12 +569,16 @@ impl Discs {
         // repulsive only: the dashpot may not pull the discs together
         let normal_force = (m.normal_stiffness * overlap - dashpot * normal_speed).max(0.0);
         // the tangential spring, kept in the current tangent line, then capped at μ F_n
-        let mut spring = previous.tangential - normal * previous.tangential.dot(&normal);
+        let mut spring = previous - normal * previous.dot(&normal);
         spring += (relative - normal * normal_speed) * dt;
         let mut tangential = spring * m.tangential_stiffness;
-        let limit = m.friction * normal_force;
+        let limit = friction * normal_force;
         if tangential.norm() > limit {
-            tangential *= limit / tangential.norm();
+            tangential *= if limit > 0.0 {
+                limit / tangential.norm()
+            } else {
+                0.0
+            };
             spring = tangential / m.tangential_stiffness;
         }
         let on_i = -normal * normal_force + tangential;
@@ -415,10 +588,10 @@ impl Discs {
         let cross = |r: Vector<2>, f: Vector<2>| r[0] * f[1] - r[1] * f[0];
         self.torque[i] += cross(normal * ri, tangential);
         self.torque[j] += cross(-normal * rj, -tangential);
-        Contact { tangential: spring }
+        spring
     }
 
-    /// Frictionless walls: a normal spring and dashpot on each disc that crosses one.
+    /// Frictionless walls: a normal spring and dashpot on each particle that crosses one.
     fn wall_forces(&mut self) {
         let m = self.model;
         for (w, wall) in self.walls.iter().enumerate() {
@@ -455,10 +628,10 @@ impl Discs {
         }
     }
 
-    /// One leapfrog step: forces at the current state (velocities at the half step), then
-    /// v += F/m dt, x += v dt, walls move.
-    pub fn step(&mut self, dt: f64) -> Result<(), SolverError> {
-        self.compute_forces(dt);
+    /// The second half of a step, after [`Self::compute_forces`] and any external forces:
+    /// local damping, then v += F/m dt, x += v dt (leapfrog), and the walls move.
+    pub fn advance(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.local_damping();
         for k in 0..self.len() {
             self.velocity[k] += self.force[k] * (dt / self.mass[k]);
             self.angular_velocity[k] += self.torque[k] * (dt / self.inertia[k]);
@@ -476,6 +649,13 @@ impl Discs {
         }
         self.time += dt;
         Ok(())
+    }
+
+    /// One leapfrog step: forces at the current state (velocities at the half step), then
+    /// [`Self::advance`].
+    pub fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        self.compute_forces(dt);
+        self.advance(dt)
     }
 
     /// Kinetic energy (translation and rotation).

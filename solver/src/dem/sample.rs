@@ -95,9 +95,9 @@ pub fn place_without_overlap(
 /// Where radius expansion stopped.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Expansion {
-    /// Mean normal stress on the walls ½(σ_xx + σ_yy) (Pa, unit thickness).
+    /// Mean normal stress on the walls ½(σ_xx + σ_yy) (Pa, over the layer thickness).
     pub wall_stress: f64,
-    /// 1 − (disc area)/(box area).
+    /// 1 − (grain cross-sections)/(box area), in the plane.
     pub porosity: f64,
     /// Mean contacts per load-carrying disc.
     pub coordination: f64,
@@ -106,8 +106,12 @@ pub struct Expansion {
 
 /// Radius expansion inside the four walls of a `width` × `height` box (already added to the
 /// discs, in the order left, right, bottom, top): cycles of `steps_per_cycle` steps, after each
-/// of which the radii grow by g = `growth`·(1 − p/p_target) (shrink above the target), p the
-/// mean wall stress, until p has stayed within 2 % of the target for five cycles in a row
+/// of which the radii grow by a factor 1 + g. While the mean wall stress p is below 5 % of the
+/// target the packing is loose and g = `growth`; then g = ½ (δ/r)(1 − p/p_target), where
+/// δ/r = 2 p_target t/k_n is the overlap per radius that carries the target stress (t the
+/// layer thickness): a cycle never presses the grains by more than half the overlap they will
+/// hold, so the stress does not overshoot the target several times over and then relax by
+/// rearrangement. Stops when p has stayed within 2 % of the target for five cycles in a row
 /// (local damping in the contact model keeps the loading quasi-static; a lone rattler may
 /// still drift, so the test is on the stress, not on the kinetic energy). Gives up with a
 /// named error after `max_cycles`.
@@ -132,8 +136,9 @@ pub fn expand_to_stress(
         }
         steps += steps_per_cycle;
         let f = &discs.wall_force;
-        let sigma_xx = 0.5 * (f[0][0].abs() + f[1][0].abs()) / height;
-        let sigma_yy = 0.5 * (f[2][1].abs() + f[3][1].abs()) / width;
+        let t = discs.layer_thickness();
+        let sigma_xx = 0.5 * (f[0][0].abs() + f[1][0].abs()) / (height * t);
+        let sigma_yy = 0.5 * (f[2][1].abs() + f[3][1].abs()) / (width * t);
         let stress = 0.5 * (sigma_xx + sigma_yy);
         steady = if (stress / target_stress - 1.0).abs() < 0.02 {
             steady + 1
@@ -141,19 +146,20 @@ pub fn expand_to_stress(
             0
         };
         if steady == 5 {
-            let solid: f64 = discs
-                .radius
-                .iter()
-                .map(|r| std::f64::consts::PI * r * r)
-                .sum();
             return Ok(Expansion {
                 wall_stress: stress,
-                porosity: 1.0 - solid / (width * height),
+                porosity: 1.0 - discs.grain_area() / (width * height),
                 coordination: discs.coordination(),
                 steps,
             });
         }
-        discs.scale_radii(1.0 + growth * (1.0 - stress / target_stress).max(-1.0));
+        let fine = 2.0 * target_stress * discs.layer_thickness() / discs.normal_stiffness();
+        let g = if stress < 0.05 * target_stress {
+            growth
+        } else {
+            0.5 * fine * (1.0 - stress / target_stress).max(-1.0)
+        };
+        discs.scale_radii(1.0 + g);
     }
     Err(SolverError::invalid(
         "radius expansion",
