@@ -127,31 +127,60 @@ enum Command {
 #[derive(Subcommand)]
 enum SoilCommand {
     /// The force of one pendular liquid bridge between two spheres (SI; θ in degrees).
-    Bridge {
-        /// Sphere radius R1, or R1,R2 for unequal spheres (m).
-        #[arg(long, allow_hyphen_values = true)]
-        radius: String,
-        /// Liquid volume of the bridge (m³).
-        #[arg(long)]
-        volume: f64,
-        /// Surface gap between the spheres (m); an overlap (< 0) counts as contact.
-        #[arg(long, allow_negative_numbers = true)]
-        gap: f64,
-        /// Contact angle (degrees).
-        #[arg(long, default_value_t = 0.0)]
-        theta: f64,
-        /// willett (fitted, the default), simple, rabinovich or toroidal.
-        #[arg(long, default_value = "willett")]
-        law: String,
-        /// Surface tension (N/m); water at 20 °C by default.
-        #[arg(long, default_value_t = 0.0728)]
-        surface_tension: f64,
-        /// Where the bridge breaks: lian ((1 + θ/2) V^(1/3)) or willett.
-        #[arg(long, default_value = "lian")]
-        rupture: String,
+    Bridge(BridgeArgs),
+    /// DEM biaxial tests of moist sand: Mohr–Coulomb c and φ per saturation (the `biaxial`
+    /// problem at full size, one seed). Writes the record, curves (CSV, SVG) and
+    /// soil-strength.json, whose cohesion_pa and friction_angle_degrees are the SPH
+    /// Drucker–Prager model's c and φ.
+    Biaxial {
+        /// Degrees of saturation in per cent, comma-separated (0 = dry).
+        #[arg(long, default_value = "0,10,15,20")]
+        saturation: String,
+        /// Confining stresses σ3 in Pa, comma-separated (at least two).
+        #[arg(long, default_value = "500,1000,2000")]
+        confining: String,
+        /// Sample seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Grains per sample.
+        #[arg(long, default_value_t = 1700)]
+        grains: usize,
+        /// Axial strain at the end of loading.
+        #[arg(long, default_value_t = 0.1)]
+        axial_strain: f64,
+        /// Output directory.
+        #[arg(long, default_value = "results/soil-biaxial")]
+        out: PathBuf,
         #[arg(long)]
         json: bool,
     },
+}
+
+#[derive(clap::Args)]
+struct BridgeArgs {
+    /// Sphere radius R1, or R1,R2 for unequal spheres (m).
+    #[arg(long, allow_hyphen_values = true)]
+    radius: String,
+    /// Liquid volume of the bridge (m³).
+    #[arg(long)]
+    volume: f64,
+    /// Surface gap between the spheres (m); an overlap (< 0) counts as contact.
+    #[arg(long, allow_negative_numbers = true)]
+    gap: f64,
+    /// Contact angle (degrees).
+    #[arg(long, default_value_t = 0.0)]
+    theta: f64,
+    /// willett (fitted, the default), simple, rabinovich or toroidal.
+    #[arg(long, default_value = "willett")]
+    law: String,
+    /// Surface tension (N/m); water at 20 °C by default.
+    #[arg(long, default_value_t = 0.0728)]
+    surface_tension: f64,
+    /// Where the bridge breaks: lian ((1 + θ/2) V^(1/3)) or willett.
+    #[arg(long, default_value = "lian")]
+    rupture: String,
+    #[arg(long)]
+    json: bool,
 }
 
 fn main() -> ExitCode {
@@ -488,10 +517,91 @@ fn riemann_command(left: &str, right: &str, gamma: f64, json: bool) -> Result<()
 }
 
 fn soil_command(command: SoilCommand) -> Result<(), VerifyError> {
+    match command {
+        SoilCommand::Bridge(args) => bridge_command(args),
+        SoilCommand::Biaxial {
+            saturation,
+            confining,
+            seed,
+            grains,
+            axial_strain,
+            out,
+            json,
+        } => {
+            let overrides = [
+                ("saturation", saturation),
+                ("confining", confining),
+                ("seeds", seed.to_string()),
+                ("grains", grains.to_string()),
+                ("axial_strain", axial_strain.to_string()),
+            ]
+            .map(|(k, v)| (k.to_string(), v));
+            let output = problems::run("biaxial", Level::Full, &overrides, &|_| {})?;
+            report::write_outputs(&out, &output)?;
+            let strength = biaxial_strength(&output.record, seed, grains);
+            let text = serde_json::to_string_pretty(&strength).expect("json");
+            report::write_atomic(&out.join("soil-strength.json"), text.as_bytes())?;
+            if json {
+                println!("{text}");
+            } else {
+                println!(
+                    "saturation  cohesion (Pa)  friction angle (°)  critical-state c (Pa), φ (°)"
+                );
+                for s in strength["saturations"].as_array().expect("list") {
+                    println!(
+                        "{:>8.0} %  {:>13.1}  {:>18.2}  {:>10.1}, {:.2}",
+                        100.0 * s["saturation"].as_f64().unwrap_or(f64::NAN),
+                        s["cohesion_pa"].as_f64().unwrap_or(f64::NAN),
+                        s["friction_angle_degrees"].as_f64().unwrap_or(f64::NAN),
+                        s["critical_cohesion_pa"].as_f64().unwrap_or(f64::NAN),
+                        s["critical_friction_angle_degrees"]
+                            .as_f64()
+                            .unwrap_or(f64::NAN),
+                    );
+                }
+                println!("outputs in {}", out.display());
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The envelopes of a `biaxial` record as the SPH soil model's inputs, per saturation.
+fn biaxial_strength(
+    record: &blastsph_verification::record::Record,
+    seed: u64,
+    grains: usize,
+) -> serde_json::Value {
+    let saturations: Vec<serde_json::Value> = record
+        .runs
+        .iter()
+        .filter(|run| run.metrics.contains_key("cohesion_peak_pa"))
+        .map(|run| {
+            let m = &run.metrics;
+            serde_json::json!({
+                "saturation": m["saturation"],
+                "cohesion_pa": m["cohesion_peak_pa"],
+                "friction_angle_degrees": m["friction_angle_peak_deg"],
+                "critical_cohesion_pa": m["cohesion_critical_pa"],
+                "critical_friction_angle_degrees": m["friction_angle_critical_deg"],
+                "rumpf_cohesion_pa": m.get("rumpf_cohesion_pa"),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "source": "blastsph soil biaxial (DEM, 2D spheres with Willett liquid bridges)",
+        "seed": seed,
+        "grains": grains,
+        "checks_pass": record.pass,
+        "saturations": saturations,
+    })
+}
+
+fn bridge_command(args: BridgeArgs) -> Result<(), VerifyError> {
     use blastsph_solver::dem::capillary::{
         bridge_force, effective_radius, rupture_gap, BridgeLaw, Liquid, RuptureCriterion,
     };
-    let SoilCommand::Bridge {
+    let BridgeArgs {
         radius,
         volume,
         gap,
@@ -500,7 +610,7 @@ fn soil_command(command: SoilCommand) -> Result<(), VerifyError> {
         surface_tension,
         rupture,
         json,
-    } = command;
+    } = args;
     let radii: Vec<f64> = radius
         .split(',')
         .map(|r| r.trim().parse::<f64>())

@@ -423,3 +423,60 @@ fn soil_bridge_prints_force_and_rupture_gap() {
         assert!(stderr(&out).contains(flag), "{}", stderr(&out));
     }
 }
+
+/// `soil biaxial` on a tiny sample writes the record, the curves and soil-strength.json, and
+/// prints the same JSON: one entry per saturation whose cohesion_pa and friction_angle_degrees
+/// the SPH soil model (Strength::drucker_prager) accepts as its c and φ. A bad saturation is
+/// refused with exit code 2, naming the parameter.
+#[test]
+fn soil_biaxial_writes_strength_the_sph_soil_model_accepts() {
+    let dir = std::env::temp_dir().join(format!("blastsph-soil-biaxial-{}", std::process::id()));
+    let out = blastsph(&[
+        "soil",
+        "biaxial",
+        "--grains",
+        "60",
+        "--saturation",
+        "0,10",
+        "--confining",
+        "500,1000",
+        "--axial-strain",
+        "0.02",
+        "--out",
+        dir.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("soil-strength.json")).unwrap()).unwrap();
+    assert_eq!(printed, written);
+    for file in ["biaxial.json", "biaxial.csv", "biaxial.svg"] {
+        assert!(dir.join(file).exists(), "{file}");
+    }
+    let entries = printed["saturations"].as_array().unwrap();
+    assert_eq!(entries.len(), 2);
+    for entry in entries {
+        let (c, phi) = (
+            entry["cohesion_pa"].as_f64(),
+            entry["friction_angle_degrees"].as_f64(),
+        );
+        // a 60-grain sample may admit no envelope (null); where it does, the SPH model takes it
+        if let (Some(c), Some(phi)) = (c, phi) {
+            if (0.0..60.0).contains(&phi) {
+                blastsph_solver::Strength::drucker_prager(1e7, c.max(0.0), phi, 0.0).unwrap();
+            }
+        }
+    }
+    let out = blastsph(&[
+        "soil",
+        "biaxial",
+        "--saturation",
+        "50",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("saturation"), "{}", stderr(&out));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -259,3 +259,13 @@ fn capillary_pair_passes_its_checks() {
     let out = run("capillary-pair", &[]);
     assert_all_checks_pass(&out);
 }
+
+/// The DEM biaxial test at 300 grains, dry and at 10 % saturation, σ3 = 0.5, 1, 2 kPa: dry
+/// cohesion below half the wet one, the wet cohesion within a factor of 3 of Rumpf's estimate,
+/// φ within 10° (loose: one small sample per point), quasi-static loading, and the friction
+/// study's trend.
+#[test]
+fn biaxial_passes_its_quick_checks() {
+    let out = run("biaxial", &[]);
+    assert_all_checks_pass(&out);
+}

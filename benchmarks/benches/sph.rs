@@ -91,5 +91,28 @@ fn whole_problems(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, kernels, neighbours, full_step, whole_problems);
+/// One full-size biaxial test of the `biaxial` problem: 1700 grains at 10 % saturation and
+/// σ3 = 1 kPa, prepared, wetted, wrapped and loaded to 10 % axial strain (the target:
+/// under two minutes on the 2-core machine). Ten samples take over ten minutes.
+fn biaxial_test(c: &mut Criterion) {
+    use blastsph_solver::dem::biaxial::{run_biaxial_test, BiaxialTest};
+    let mut group = c.benchmark_group("dem");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(600));
+    let test = BiaxialTest::source_paper(1700, 1, 0.1, 1000.0);
+    group.bench_function("biaxial 1700 grains S=10% sigma3=1kPa to 10%", |b| {
+        b.iter(|| run_biaxial_test(&test).expect("runs"))
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    kernels,
+    neighbours,
+    full_step,
+    whole_problems,
+    biaxial_test
+);
 criterion_main!(benches);

@@ -199,7 +199,7 @@ fn axial_stress(discs: &Discs, membrane: &Membrane) -> f64 {
 }
 
 /// Runs the test on a wrapped sample. First isotropic consolidation: the platens are servo
-/// controlled (speed ∝ σ3 − σ1, at most a tenth of the loading speed) until the axial stress,
+/// controlled (speed ∝ σ3 − σ1: the loading speed at an error of half of σ3) until the axial stress,
 /// averaged over a window, has stayed within 2 % of σ3 for five windows in a row: a packing
 /// expanded between rigid walls keeps rearranging for thousands of steps, and without this it
 /// creeps under the membrane while being loaded. Then the platens close at the loading speed
@@ -232,20 +232,23 @@ pub fn run_biaxial(
         discs.advance(dt)?;
         Ok(sigma1)
     };
-    let mut steady = 0;
+    let (mut steady, mut mean) = (0, 0.0);
     for window in 0.. {
         if window == MAX_CONSOLIDATION_WINDOWS {
             return Err(SolverError::invalid(
                 "consolidation",
-                format!("σ1 not within 2 % of σ3 = {sigma3} Pa after {window} windows"),
+                format!(
+                    "σ1 = {mean:.4e} Pa, not within 2 % of σ3 = {sigma3} Pa after {window} windows"
+                ),
                 "a sample closer to equilibrium",
             ));
         }
-        let mut mean = 0.0;
+        mean = 0.0;
         for _ in 0..WINDOW {
             let sigma1 = step_once(discs)?;
             mean += sigma1 / WINDOW as f64;
-            let speed = 0.1 * loading.platen_speed * ((sigma3 - sigma1) / sigma3).clamp(-1.0, 1.0);
+            let error = (sigma3 - sigma1) / sigma3;
+            let speed = loading.platen_speed * (2.0 * error).clamp(-1.0, 1.0);
             discs.walls[0].velocity[1] = speed;
             discs.walls[1].velocity[1] = -speed;
         }
@@ -342,6 +345,8 @@ pub struct BiaxialRun {
     pub particles: usize,
     pub membrane_particles: usize,
     pub time_step: f64,
+    /// Steps of preparation, consolidation and loading.
+    pub steps: usize,
 }
 
 /// The porosity the box is sized for (the expansion then grows the grains to the stress; a
@@ -494,13 +499,16 @@ pub fn shear_prepared(
     add_pore_water(&mut discs, &mut sample, test)?;
     let r_min = discs.radius.iter().cloned().fold(f64::INFINITY, f64::min);
     let membrane = Membrane::wrap(&mut discs, test.membrane_radius_ratio * r_min)?;
+    let start = discs.time;
     let records = run_biaxial(&mut discs, &membrane, test.loading)?;
+    let time_step = discs.critical_time_step(0.2);
     Ok(BiaxialRun {
         sample,
         records,
         particles: discs.len(),
         membrane_particles: discs.len() - discs.grains(),
-        time_step: discs.critical_time_step(0.2),
+        time_step,
+        steps: sample.preparation_steps + ((discs.time - start) / time_step).round() as usize,
     })
 }
 

@@ -1,6 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
+mod biaxial;
 mod capillary_pair;
 mod colliding_rings;
 mod density_ratio_tube;
@@ -35,6 +36,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(elastic_wave::info());
     list.push(colliding_rings::info());
     list.push(capillary_pair::info());
+    list.push(biaxial::info());
     list.extend(taylor_bar::infos());
     list
 }
@@ -68,6 +70,8 @@ pub fn run(
         kernel_interpolation::run(&params)?
     } else if name == capillary_pair::NAME {
         capillary_pair::run(&params)?
+    } else if name == biaxial::NAME {
+        biaxial::run(&params, level, progress)?
     } else if name == colliding_rings::NAME {
         colliding_rings::run(&params, progress)?
     } else if taylor_bar::NAMES.contains(&name) {
