@@ -145,6 +145,27 @@ impl Params {
         Ok(list)
     }
 
+    /// A comma-separated list of numbers in [lo, hi].
+    pub fn numbers(&self, key: &str, lo: f64, hi: f64) -> Result<Vec<f64>, VerifyError> {
+        let raw = self.raw(key);
+        let list: Option<Vec<f64>> = raw
+            .split(',')
+            .map(|s| {
+                s.trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| (lo..=hi).contains(x))
+            })
+            .collect();
+        list.filter(|l| !l.is_empty()).ok_or_else(|| {
+            VerifyError::bad_value(
+                key,
+                raw,
+                &format!("comma-separated numbers in [{lo}, {hi}]"),
+            )
+        })
+    }
+
     /// One of `options`, named by `name`.
     pub fn choice<T: Copy>(
         &self,

@@ -233,27 +233,6 @@ fn friction_study(
         .collect()
 }
 
-/// A comma-separated list of numbers in [lo, hi], named by `key`.
-fn numbers(params: &Params, key: &str, lo: f64, hi: f64) -> Result<Vec<f64>, VerifyError> {
-    let raw = params.text(key);
-    let list: Option<Vec<f64>> = raw
-        .split(',')
-        .map(|s| {
-            s.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|x| (lo..=hi).contains(x))
-        })
-        .collect();
-    list.filter(|l| !l.is_empty()).ok_or_else(|| {
-        VerifyError::bad_value(
-            key,
-            &raw,
-            &format!("comma-separated numbers in [{lo}, {hi}]"),
-        )
-    })
-}
-
 pub fn run(
     params: &Params,
     level: Level,
@@ -265,13 +244,14 @@ pub fn run(
         .into_iter()
         .map(|s| s as u64)
         .collect();
-    let mut saturations: Vec<f64> = numbers(params, "saturation", 0.0, 30.0)?
+    let mut saturations: Vec<f64> = params
+        .numbers("saturation", 0.0, 30.0)?
         .iter()
         .map(|s| s / 100.0)
         .collect();
     saturations.sort_by(f64::total_cmp);
     saturations.dedup();
-    let mut confining = numbers(params, "confining", 1.0, 1e7)?;
+    let mut confining = params.numbers("confining", 1.0, 1e7)?;
     confining.sort_by(f64::total_cmp);
     confining.dedup();
     if confining.len() < 2 {
