@@ -129,7 +129,9 @@ pub fn bridge_force(law: BridgeLaw, liquid: &Liquid, radius: f64, gap: f64) -> f
     let (v, gamma, theta) = (liquid.volume, liquid.surface_tension, liquid.contact_angle);
     let scale = 2.0 * PI * gamma * radius;
     match law {
-        BridgeLaw::WillettFitted => scale * willett_fitted(v / radius.powi(3), theta, s / radius),
+        BridgeLaw::WillettFitted => {
+            scale * WillettFit::new(v / radius.powi(3), theta).force_ratio(s / radius)
+        }
         BridgeLaw::WillettSimple => {
             let s_plus = 0.5 * s * (radius / v).sqrt();
             scale * theta.cos() / (1.0 + 2.1 * s_plus + 10.0 * s_plus * s_plus)
@@ -151,46 +153,104 @@ pub fn bridge_force(law: BridgeLaw, liquid: &Liquid, radius: f64, gap: f64) -> f
     }
 }
 
-/// Willett et al.'s fitted F* = F/(2πγR) at V* = V/R³, θ (rad) and S* = S/R (their
-/// Table/eq. 11, natural logarithms; F* = exp(f1) at contact).
-fn willett_fitted(v: f64, theta: f64, s: f64) -> f64 {
-    let l = v.ln();
-    let t2 = theta * theta;
-    let poly = |c: [[f64; 3]; 4]| {
-        c.iter()
-            .enumerate()
-            .map(|(k, row)| (row[0] + row[1] * theta + row[2] * t2) * l.powi(k as i32))
-            .sum::<f64>()
-    };
-    let f1 = poly([
-        [-0.44507, 0.050832, -1.1466],
-        [-0.1119, -0.000411, -0.1490],
-        [-0.012101, -0.0036456, -0.01255],
-        [-0.0005, -0.0003505, -0.00029076],
-    ]);
-    if s <= 0.0 {
-        return f1.exp();
+/// Willett et al.'s fitted law at one V* = V/R³ and θ (rad): the coefficients f1…f4 of their
+/// eq. 11 (polynomials in ln V* and θ, natural logarithms) and √V*. They depend on neither the
+/// gap nor time, so a standing bridge works them out once ([`Bridge`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct WillettFit {
+    f: [f64; 4],
+    sqrt_volume: f64,
+}
+
+impl WillettFit {
+    fn new(v: f64, theta: f64) -> Self {
+        let l = v.ln();
+        let t2 = theta * theta;
+        let poly = |c: [[f64; 3]; 4]| {
+            c.iter()
+                .enumerate()
+                .map(|(k, row)| (row[0] + row[1] * theta + row[2] * t2) * l.powi(k as i32))
+                .sum::<f64>()
+        };
+        let f = [
+            poly([
+                [-0.44507, 0.050832, -1.1466],
+                [-0.1119, -0.000411, -0.1490],
+                [-0.012101, -0.0036456, -0.01255],
+                [-0.0005, -0.0003505, -0.00029076],
+            ]),
+            poly([
+                [1.9222, -0.57473, -1.2918],
+                [-0.0668, -0.1201, -0.22574],
+                [-0.0013375, -0.0068988, -0.01137],
+                [0.0, 0.0, 0.0],
+            ]),
+            poly([
+                [1.268, -0.01396, -0.23566],
+                [0.198, 0.092, -0.06418],
+                [0.02232, 0.02238, -0.009853],
+                [0.0008585, 0.001318, -0.00053],
+            ]),
+            poly([
+                [-0.010703, 0.073776, -0.34742],
+                [0.03345, 0.04543, -0.09056],
+                [0.0018574, 0.004456, -0.006257],
+                [0.0, 0.0, 0.0],
+            ]),
+        ];
+        Self {
+            f,
+            sqrt_volume: v.sqrt(),
+        }
     }
-    let f2 = poly([
-        [1.9222, -0.57473, -1.2918],
-        [-0.0668, -0.1201, -0.22574],
-        [-0.0013375, -0.0068988, -0.01137],
-        [0.0, 0.0, 0.0],
-    ]);
-    let f3 = poly([
-        [1.268, -0.01396, -0.23566],
-        [0.198, 0.092, -0.06418],
-        [0.02232, 0.02238, -0.009853],
-        [0.0008585, 0.001318, -0.00053],
-    ]);
-    let f4 = poly([
-        [-0.010703, 0.073776, -0.34742],
-        [0.03345, 0.04543, -0.09056],
-        [0.0018574, 0.004456, -0.006257],
-        [0.0, 0.0, 0.0],
-    ]);
-    let ln_s = (0.5 * s / v.sqrt()).ln(); // S⁺ = (S/2)√(R/V) = (S*/2)/√V*
-    (f1 - f2 * (f3 * ln_s + f4 * ln_s * ln_s).exp()).exp()
+
+    /// F* = F/(2πγR) at S* = S/R ≥ 0: ln F* = f1 − f2 exp(f3 ln S⁺ + f4 ln² S⁺) with
+    /// S⁺ = (S*/2)/√V*, and F* = exp(f1) at contact.
+    fn force_ratio(&self, s: f64) -> f64 {
+        let [f1, f2, f3, f4] = self.f;
+        if s <= 0.0 {
+            return f1.exp();
+        }
+        let ln_s = (0.5 * s / self.sqrt_volume).ln();
+        (f1 - f2 * (f3 * ln_s + f4 * ln_s * ln_s).exp()).exp()
+    }
+}
+
+/// A standing bridge: its liquid, the effective radius R of its pair and its rupture gap, with
+/// what its law needs that does not change with the gap worked out when it forms (a bridge
+/// keeps its liquid from formation to rupture, so its force is a function of the gap alone).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bridge {
+    pub liquid: Liquid,
+    pub radius: f64,
+    pub rupture_gap: f64,
+    law: BridgeLaw,
+    willett: Option<WillettFit>,
+}
+
+impl Bridge {
+    pub fn new(law: BridgeLaw, rupture: RuptureCriterion, liquid: Liquid, radius: f64) -> Self {
+        let willett = (law == BridgeLaw::WillettFitted)
+            .then(|| WillettFit::new(liquid.volume / radius.powi(3), liquid.contact_angle));
+        Self {
+            liquid,
+            radius,
+            rupture_gap: rupture_gap(rupture, &liquid, radius),
+            law,
+            willett,
+        }
+    }
+
+    /// Its force at `gap` (m), as [`bridge_force`].
+    pub fn force(&self, gap: f64) -> f64 {
+        match &self.willett {
+            Some(fit) => {
+                let scale = 2.0 * PI * self.liquid.surface_tension * self.radius;
+                scale * fit.force_ratio(gap.max(0.0) / self.radius)
+            }
+            None => bridge_force(self.law, &self.liquid, self.radius, gap),
+        }
+    }
 }
 
 /// The toroidal bridge between equal spheres of radius R at gap S: the filling angle β whose
@@ -258,6 +318,23 @@ mod tests {
             // an overlap pulls as contact does
             let overlap = bridge_force(law, &liquid, r, -1e-6);
             assert_eq!(overlap, bridge_force(law, &liquid, r, 0.0), "{law:?}");
+        }
+    }
+
+    /// A standing bridge, with its gap-independent parts worked out once, gives the same force
+    /// and rupture gap as the laws evaluated from scratch.
+    #[test]
+    fn a_standing_bridge_matches_its_law() {
+        let (r, liquid) = (1.5e-4, water(2e-13, 20.0));
+        for law in BridgeLaw::ALL {
+            for rupture in [RuptureCriterion::Lian, RuptureCriterion::Willett] {
+                let bridge = Bridge::new(law, rupture, liquid, r);
+                assert_eq!(bridge.rupture_gap, rupture_gap(rupture, &liquid, r));
+                for gap in [-1e-6, 0.0, 1e-7, 3e-6, 2e-5] {
+                    let scratch = bridge_force(law, &liquid, r, gap);
+                    assert!((bridge.force(gap) / scratch - 1.0).abs() < 1e-14, "{law:?}");
+                }
+            }
         }
     }
 

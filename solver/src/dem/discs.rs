@@ -15,7 +15,7 @@
 //! on the thread count.
 
 use super::capillary::{
-    bridge_force, effective_radius, rupture_gap, BridgeLaw, Liquid, RuptureCriterion,
+    effective_radius, rupture_gap, Bridge, BridgeLaw, Liquid, RuptureCriterion,
 };
 use crate::error::SolverError;
 use crate::neighbours::{find_neighbours, PairReach};
@@ -99,15 +99,14 @@ pub struct Wetting {
     pub liquid: Liquid,
 }
 
-/// One listed pair: its tangential spring while the two touch, and the liquid of its bridge.
+/// One listed pair: its tangential spring while the two touch, and its bridge if it has one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Pair {
     i: u32,
     j: u32,
     touching: bool,
     tangential: Vector<2>,
-    /// The bridge's liquid volume (m³); 0 where there is none.
-    bridge: f64,
+    bridge: Option<Bridge>,
 }
 
 impl Pair {
@@ -117,7 +116,7 @@ impl Pair {
             j,
             touching: false,
             tangential: Vector::zeros(),
-            bridge: 0.0,
+            bridge: None,
         }
     }
 }
@@ -286,6 +285,13 @@ impl Discs {
             self.mass[k] *= factor.powi(3);
             self.inertia[k] *= factor.powi(5);
         }
+        // a bridge's law depends on its pair's radius
+        for p in 0..self.pairs.len() {
+            if let Some(bridge) = self.pairs[p].bridge {
+                let (i, j) = (self.pairs[p].i as usize, self.pairs[p].j as usize);
+                self.pairs[p].bridge = Some(self.bridge(i, j, bridge.liquid));
+            }
+        }
         self.listed_at = None;
     }
 
@@ -346,21 +352,20 @@ impl Discs {
     pub fn bridge_volumes(&self) -> impl Iterator<Item = ((usize, usize), f64)> + '_ {
         self.pairs
             .iter()
-            .filter(|p| p.bridge > 0.0)
-            .map(|p| ((p.i as usize, p.j as usize), p.bridge))
+            .filter_map(|p| Some(((p.i as usize, p.j as usize), p.bridge?.liquid.volume)))
     }
 
     /// Puts `volume` (m³) into bridges at the grain pairs now in contact, shared in proportion
     /// to their centre-to-centre distances, and empties the films (the source paper's rule for
     /// the pore water of a prepared sample). An error if the grains are dry or none touch.
     pub fn distribute_liquid(&mut self, volume: f64) -> Result<(), SolverError> {
-        if self.wetting.is_none() {
+        let Some(w) = self.wetting else {
             return Err(SolverError::invalid(
                 "wetting",
                 "none",
                 "wet grains to hold liquid",
             ));
-        }
+        };
         if !(volume > 0.0 && volume.is_finite()) {
             return Err(SolverError::invalid(
                 "liquid volume",
@@ -380,19 +385,21 @@ impl Discs {
                 "at least one to hold liquid",
             ));
         }
-        let shares: Vec<f64> = self
+        let bridges: Vec<Option<Bridge>> = self
             .pairs
             .iter()
             .map(|p| {
-                if wet(p) {
-                    volume * distance(p) / total
-                } else {
-                    0.0
-                }
+                wet(p).then(|| {
+                    let liquid = Liquid {
+                        volume: volume * distance(p) / total,
+                        ..w.liquid
+                    };
+                    self.bridge(p.i as usize, p.j as usize, liquid)
+                })
             })
             .collect();
-        for (pair, share) in self.pairs.iter_mut().zip(shares) {
-            pair.bridge = share;
+        for (pair, bridge) in self.pairs.iter_mut().zip(bridges) {
+            pair.bridge = bridge;
         }
         self.film.iter_mut().for_each(|f| *f = 0.0);
         // the list's reach grows with the largest bridge
@@ -409,7 +416,7 @@ impl Discs {
         let largest = self
             .pairs
             .iter()
-            .map(|p| p.bridge)
+            .filter_map(|p| Some(p.bridge?.liquid.volume))
             .chain(self.film.iter().copied())
             .fold(0.0, f64::max);
         if largest == 0.0 {
@@ -475,8 +482,17 @@ impl Discs {
 
     /// A broken bridge gives half of its liquid back to each grain.
     fn return_liquid(&mut self, pair: &Pair) {
-        self.film[pair.i as usize] += 0.5 * pair.bridge;
-        self.film[pair.j as usize] += 0.5 * pair.bridge;
+        if let Some(bridge) = pair.bridge {
+            self.film[pair.i as usize] += 0.5 * bridge.liquid.volume;
+            self.film[pair.j as usize] += 0.5 * bridge.liquid.volume;
+        }
+    }
+
+    /// A bridge of `liquid` between grains i and j (the grains are wet).
+    fn bridge(&self, i: usize, j: usize, liquid: Liquid) -> Bridge {
+        let w = self.wetting.expect("a bridge between wet grains");
+        let radius = effective_radius(self.radius[i], self.radius[j]);
+        Bridge::new(w.law, w.rupture, liquid, radius)
     }
 
     /// Forces and torques of the current positions and velocities (contacts, bridges,
@@ -499,6 +515,12 @@ impl Discs {
         let (i, j) = (pair.i as usize, pair.j as usize);
         let (ri, rj) = (self.radius[i], self.radius[j]);
         let d_vec = self.position[j] - self.position[i];
+        // most listed pairs neither touch nor hold a bridge, and then nothing acts
+        if pair.bridge.is_none() && d_vec.norm_squared() >= (ri + rj).powi(2) {
+            pair.touching = false;
+            pair.tangential = Vector::zeros();
+            return pair;
+        }
         let d = d_vec.norm();
         let normal = d_vec / d;
         let gap = d - ri - rj;
@@ -519,26 +541,25 @@ impl Discs {
             return pair;
         };
         // a standing bridge keeps its liquid; a new one forms at contact from the films
-        if pair.bridge == 0.0 && pair.touching && self.film[i] + self.film[j] > 0.0 {
-            pair.bridge = 0.5 * (self.film[i] + self.film[j]);
+        if pair.bridge.is_none() && pair.touching && self.film[i] + self.film[j] > 0.0 {
+            let liquid = Liquid {
+                volume: 0.5 * (self.film[i] + self.film[j]),
+                ..w.liquid
+            };
+            pair.bridge = Some(self.bridge(i, j, liquid));
             self.film[i] *= 0.5;
             self.film[j] *= 0.5;
         }
-        if pair.bridge == 0.0 {
+        let Some(bridge) = pair.bridge else {
             return pair;
-        }
-        let liquid = Liquid {
-            volume: pair.bridge,
-            ..w.liquid
         };
-        let radius = effective_radius(ri, rj);
-        if gap < rupture_gap(w.rupture, &liquid, radius) {
-            let f = bridge_force(w.law, &liquid, radius, gap) * normal;
+        if gap < bridge.rupture_gap {
+            let f = bridge.force(gap) * normal;
             self.force[i] += f;
             self.force[j] -= f;
         } else {
             self.return_liquid(&pair);
-            pair.bridge = 0.0;
+            pair.bridge = None;
         }
         pair
     }
