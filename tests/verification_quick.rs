@@ -260,10 +260,10 @@ fn capillary_pair_passes_its_checks() {
     assert_all_checks_pass(&out);
 }
 
-/// The DEM biaxial test at 300 grains, dry and at 10 % saturation, σ3 = 0.5, 1, 2 kPa: dry
-/// cohesion below half the wet one, the wet cohesion within a factor of 3 of Rumpf's estimate,
-/// φ within 10° (loose: one small sample per point), quasi-static loading, and the friction
-/// study's trend.
+/// The DEM biaxial test at 300 grains, dry and at 10 % saturation, σ3 = 0.5, 1, 2 kPa: more
+/// cohesion wet than dry, the wet cohesion within a factor of 10 of Rumpf's estimate, φ within
+/// 10° (loose: one small sample per point scatters), quasi-static loading (inertial number,
+/// and the strength at half the platen speed), and the friction study's trend.
 #[test]
 fn biaxial_passes_its_quick_checks() {
     let out = run("biaxial", &[]);

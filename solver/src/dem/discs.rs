@@ -295,6 +295,18 @@ impl Discs {
         self.listed_at = None;
     }
 
+    /// Sets Cundall's local damping α from now on (a packing settles fastest under heavy
+    /// damping; a test that deforms it may need less, see [`crate::dem::biaxial`]).
+    pub fn set_local_damping(&mut self, alpha: f64) -> Result<(), SolverError> {
+        let model = ContactModel {
+            local_damping: alpha,
+            ..self.model
+        };
+        model.validate()?;
+        self.model = model;
+        Ok(())
+    }
+
     /// Contacts per grain (with grains, boundary particles and walls), counting only grains
     /// with at least two (a rattler carries no load).
     pub fn coordination(&self) -> f64 {
