@@ -242,17 +242,36 @@ fn shear(
     })
 }
 
-/// The rate check: `first` sheared again, from a fresh preparation of the same sample, with
-/// the platens at half its speed.
-fn at_half_speed(first: &Shear, grains: usize, axial_strain: f64) -> Result<Shear, VerifyError> {
-    let base = BiaxialTest::source_paper(grains, first.seed, 0.0, first.confining);
+/// One test as the problem runs it: the sample prepared dry, wetted to `saturation` and
+/// sheared at the problem's platen speeds for σ3 to `axial_strain` (what the benchmark times).
+pub fn biaxial_run(
+    grains: usize,
+    seed: u64,
+    saturation: f64,
+    sigma3: f64,
+    axial_strain: f64,
+) -> Result<BiaxialRun, VerifyError> {
+    Ok(prepare_and_shear(grains, seed, saturation, sigma3, axial_strain, 1.0)?.run)
+}
+
+/// A fresh preparation sheared with the loading at `slowing` times the problem's speed.
+fn prepare_and_shear(
+    grains: usize,
+    seed: u64,
+    saturation: f64,
+    sigma3: f64,
+    axial_strain: f64,
+    slowing: f64,
+) -> Result<Shear, VerifyError> {
+    let base = BiaxialTest::source_paper(grains, seed, 0.0, sigma3);
     let (discs, sample) = prepare_sample(&base)?;
-    let (consolidation, speed) = platen_speeds(&base, &sample, first.confining);
+    let (consolidation, speed) = platen_speeds(&base, &sample, sigma3);
+    let speeds = (consolidation, slowing * speed);
     Ok(shear(
         &base,
         (&discs, sample),
-        first.saturation,
-        (consolidation, 0.5 * speed),
+        saturation,
+        speeds,
         axial_strain,
     )?)
 }
@@ -513,11 +532,15 @@ pub fn run(
             )
         });
     }
-    // the first seed's sample at the lowest σ3 and the first saturation (dry when run)
+    // the rate check: the first seed's sample at the lowest σ3 and the first saturation (dry
+    // when run), prepared afresh and sheared at half the speed
     let first = &shears[0];
     let (study, slow) = rayon::join(
         || friction_study(grains, seeds[0], confining[0]),
-        || at_half_speed(first, grains, axial_strain),
+        || {
+            let (seed, saturation, sigma3) = (first.seed, first.saturation, first.confining);
+            prepare_and_shear(grains, seed, saturation, sigma3, axial_strain, 0.5)
+        },
     );
     let (study, slow) = (study?, slow?);
     // quasi-static: halving the platen speed moves the mean σ1 beyond 1 % strain by the

@@ -13,6 +13,8 @@ mod shock_tube;
 mod taylor_bar;
 mod tnt_slab;
 
+pub use biaxial::biaxial_run;
+
 use crate::params::{ParamSpec, Params};
 use crate::record::ProblemOutput;
 use crate::{Level, VerifyError};
