@@ -399,3 +399,24 @@ fn biaxial_is_deterministic_across_thread_counts() {
     };
     assert_eq!(run_with(1), run_with(2));
 }
+
+/// Bad loading data is refused, named, before the consolidation runs.
+#[test]
+fn bad_loading_is_named_before_consolidation() {
+    use blastsph_solver::dem::biaxial::shear_prepared;
+    let test = BiaxialTest::source_paper(40, 2, 0.0, 1000.0);
+    let (discs, sample) = prepare_sample(&test).unwrap();
+    let refusal = |bad: BiaxialTest| {
+        shear_prepared(discs.clone(), sample, &bad)
+            .unwrap_err()
+            .to_string()
+    };
+    let mut bad = test;
+    bad.loading.local_damping = 1.2;
+    let err = refusal(bad);
+    assert!(err.contains("local damping"), "{err}");
+    let mut bad = test;
+    bad.loading.consolidation_speed = -1.0;
+    let err = refusal(bad);
+    assert!(err.contains("consolidation speed"), "{err}");
+}

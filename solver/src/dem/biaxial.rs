@@ -205,8 +205,8 @@ fn axial_stress(discs: &Discs, membrane: &Membrane) -> f64 {
 }
 
 /// Runs the test on a wrapped sample. First isotropic consolidation: the platens are servo
-/// controlled (speed ∝ σ3 − σ1: the consolidation speed at an error of half of σ3) until the axial stress,
-/// averaged over a window, has stayed within 2 % of σ3 for five windows in a row: a packing
+/// controlled (speed ∝ σ3 − σ1: the consolidation speed at an error of half of σ3) until the
+/// axial stress, averaged over a window, has stayed within 2 % of σ3 for five windows in a row: a packing
 /// expanded between rigid walls keeps rearranging for thousands of steps, and without this it
 /// creeps under the membrane while being loaded. Then the platens close at the loading speed
 /// until the axial strain is reached; each record holds the window's mean σ1.
@@ -225,6 +225,14 @@ pub fn run_biaxial(
         if !(value > 0.0 && value.is_finite()) {
             return Err(SolverError::invalid(field, value, "finite and > 0"));
         }
+    }
+    // checked now, not after the consolidation that precedes its use
+    if !(0.0..1.0).contains(&loading.local_damping) {
+        return Err(SolverError::invalid(
+            "loading local damping",
+            loading.local_damping,
+            "0 ≤ α < 1",
+        ));
     }
     if loading.record_every == 0 {
         return Err(SolverError::invalid("record every", 0, "≥ 1 step"));
