@@ -31,6 +31,7 @@ pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
 pub use physics::{
     ArtificialStress, ArtificialViscosity, DensityMethod, EnergyEquation, InterfacePenalty,
+    ViscositySwitch,
 };
 pub use radial::Geometry;
 pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};

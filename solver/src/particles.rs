@@ -60,6 +60,8 @@ pub struct Particles<const D: usize> {
     pub burn_fraction: Vec<f64>,
     /// Largest pair signal speed seen by each particle in the last force evaluation.
     pub signal_speed: Vec<f64>,
+    /// Each real particle's own viscosity α (Morris & Monaghan's switch); empty without it.
+    pub viscosity_alpha: Vec<f64>,
     n_real: usize,
     images: Vec<Image<D>>,
 }
@@ -166,6 +168,7 @@ impl<const D: usize> Particles<D> {
             lighting_time: Vec::new(),
             burn_fraction: Vec::new(),
             signal_speed: vec![0.0; n],
+            viscosity_alpha: Vec::new(),
             n_real: n,
             images: Vec::new(),
         }
@@ -328,6 +331,7 @@ impl<const D: usize> Particles<D> {
         apply(&mut self.strain_rate, order);
         apply(&mut self.lighting_time, order);
         apply(&mut self.burn_fraction, order);
+        apply(&mut self.viscosity_alpha, order);
     }
 
     /// Total mass of the real particles.

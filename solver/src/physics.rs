@@ -91,6 +91,54 @@ pub struct ArtificialViscosity {
     /// Monaghan's artificial stress against the tensile instability of solids (off when
     /// `None`).
     pub artificial_stress: Option<ArtificialStress>,
+    /// Morris & Monaghan's time-dependent viscosity: each particle carries its own α between
+    /// α_min and `alpha` (see [`ViscositySwitch`]); off (α everywhere) when `None`.
+    pub switch: Option<ViscositySwitch>,
+}
+
+/// The time-dependent viscosity of Morris & Monaghan (1997, J. Comput. Phys. 136, 41), with the
+/// bounded source of Rosswog et al. (2000, A&A 360, 171): each particle's α obeys
+///
+///   Dα_i/Dt = −(α_i − α_min)/τ_i + S_i (α_max − α_i),  τ_i = h_i/(ℓ c_i),  S_i = max(−∇·v_i, 0),
+///
+/// so α rises towards α_max (the viscosity's `alpha`) where the flow converges, at a shock, and
+/// relaxes to α_min within a few τ, a few smoothing lengths of sound travel, behind it. A pair
+/// uses α_ij = (α_i + α_j)/2 and β_ij = β α_ij/α_max, so Π_ij is the full Π scaled by
+/// α_ij/α_max. Meant for flow that is not a shock: the plastic flow of a solid, which is
+/// isochoric and so gives no source, while the quadratic term that a shock needs stays whole
+/// wherever α is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViscositySwitch {
+    /// α_min, the viscosity left where nothing converges (0.1 in Morris & Monaghan).
+    pub alpha_min: f64,
+    /// ℓ, the inverse decay time in units of c/h (0.1–0.2 in Morris & Monaghan).
+    pub decay: f64,
+}
+
+impl ViscositySwitch {
+    /// ℓ = 0.2: α relaxes over about five smoothing lengths of sound travel behind a shock, the
+    /// faster end of Morris & Monaghan's range.
+    pub const DECAY: f64 = 0.2;
+
+    /// A particle's α after `dt` of the switch's equation, with the source and decay time of
+    /// the step's end held over the step: the equation is linear in α, so its exact solution
+    /// relaxes α to the balance α_eq = (α_min/τ + S α_max)/(1/τ + S) at the rate 1/τ + S, and
+    /// α stays within [α_min, α_max] for any step. `sound_speed_over_h` is c_i/h_i.
+    pub fn relax(
+        &self,
+        alpha: f64,
+        alpha_max: f64,
+        velocity_divergence: f64,
+        sound_speed_over_h: f64,
+        dt: f64,
+    ) -> f64 {
+        let decay_rate = self.decay * sound_speed_over_h;
+        let source = (-velocity_divergence).max(0.0);
+        let rate = decay_rate + source;
+        let balance = (self.alpha_min * decay_rate + source * alpha_max) / rate;
+        // the clamp only removes round-off: the exact solution never leaves the interval
+        (balance + (alpha - balance) * (-rate * dt).exp()).clamp(self.alpha_min, alpha_max)
+    }
 }
 
 /// Monaghan's (2000) artificial stress, in the form of Gray, Monaghan & Swift (2001): in the
@@ -206,6 +254,7 @@ impl Default for ArtificialViscosity {
             interface_penalty: None,
             balsara: false,
             artificial_stress: None,
+            switch: None,
         }
     }
 }
@@ -223,6 +272,22 @@ impl ArtificialViscosity {
         }
         if !(self.eta2 > 0.0 && self.eta2 <= 1.0) {
             return Err(SolverError::invalid("eta2", self.eta2, "0 < η² ≤ 1"));
+        }
+        if let Some(switch) = &self.switch {
+            if !(0.0..=self.alpha).contains(&switch.alpha_min) {
+                return Err(SolverError::invalid(
+                    "switch alpha_min",
+                    switch.alpha_min,
+                    &format!("0 ≤ α_min ≤ α = {}", self.alpha),
+                ));
+            }
+            if !(switch.decay > 0.0 && switch.decay <= 1.0) {
+                return Err(SolverError::invalid(
+                    "switch decay",
+                    switch.decay,
+                    "0 < ℓ ≤ 1",
+                ));
+            }
         }
         self.interface_penalty
             .as_ref()
@@ -453,6 +518,8 @@ struct RateSource<const D: usize> {
     material: u16,
     /// Balsara factor (1 without the switch).
     balsara: f64,
+    /// α_k/α_max of the time-dependent viscosity (1 without it).
+    alpha_factor: f64,
 }
 
 /// What the force loop returns for one particle.
@@ -543,7 +610,8 @@ impl PairKernel {
 /// Σ_j m_j v_ij·∇_i W_ij(h_i) (the rate of the grad-h summation density),
 /// with the grad-h forms where `pair_kernel` is [`PairKernel::OwnH`] (the particles then carry
 /// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess). `balsara` holds each real
-/// particle's switch factor where the switch is on. In an axisymmetric `geometry` the pairs see
+/// particle's switch factor where the switch is on; particles that carry their own α
+/// ([`ViscositySwitch`]) scale Π_ij by (α_i + α_j)/(2α). In an axisymmetric `geometry` the pairs see
 /// ring densities and fluxes (see [`crate::axisymmetric`]) and the density rate is Dη/Dt.
 /// Returns the total force the walls exert on the particles.
 #[allow(clippy::too_many_arguments)]
@@ -591,6 +659,10 @@ pub fn compute_rates<const D: usize>(
                 is_wall: p.image(k).is_some_and(|im| im.is_wall),
                 material: p.material_of(k) as u16,
                 balsara: balsara.map_or(1.0, |f| f[p.real_index(k)]),
+                alpha_factor: p
+                    .viscosity_alpha
+                    .get(p.real_index(k))
+                    .map_or(1.0, |alpha| alpha / viscosity.alpha),
             }
         })
         .collect();
@@ -656,7 +728,8 @@ fn rates_at<const D: usize>(
             let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
             let rho_mean = 0.5 * (me.density + other.density);
             let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean)
-                * (0.5 * (me.balsara + other.balsara));
+                * (0.5 * (me.balsara + other.balsara))
+                * (0.5 * (me.alpha_factor + other.alpha_factor));
             let m_j = other.mass;
             // every gradient here is dW/dr · x_ij/r, so the pair's terms combine as scalars
             let pressure_i = m_j * me.pressure_factor * terms.partner_factor(other) * dw_i;
@@ -918,4 +991,43 @@ pub fn add_stress_rates<const D: usize>(
         wall_force += wall;
     }
     wall_force
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The switch's step against its equation: without a source α relaxes to α_min as
+    /// exp(−ℓ c t/h); under steady compression S it settles at the balance
+    /// (α_min ℓc/h + S α_max)/(ℓc/h + S); two half steps make one whole step (the solution is
+    /// exact for frozen coefficients); and no step, however long, leaves [α_min, α_max].
+    #[test]
+    fn viscosity_switch_follows_its_equation() {
+        let switch = ViscositySwitch {
+            alpha_min: 0.1,
+            decay: 0.2,
+        };
+        let c_over_h = 5e6;
+        let decayed = switch.relax(1.0, 1.0, 0.0, c_over_h, 1e-6);
+        assert!((decayed - (0.1 + 0.9 * (-0.2 * c_over_h * 1e-6_f64).exp())).abs() < 1e-14);
+        let compression = 3e6;
+        let settled = switch.relax(0.1, 1.0, -compression, c_over_h, 1.0);
+        let balance = (0.1 * 0.2 * c_over_h + compression) / (0.2 * c_over_h + compression);
+        assert!((settled - balance).abs() < 1e-14);
+        // expansion is no source
+        assert_eq!(
+            switch.relax(0.5, 1.0, compression, c_over_h, 1e-7),
+            switch.relax(0.5, 1.0, 0.0, c_over_h, 1e-7)
+        );
+        let half = switch.relax(0.3, 1.0, -compression, c_over_h, 2e-7);
+        let whole = switch.relax(half, 1.0, -compression, c_over_h, 2e-7);
+        let once = switch.relax(0.3, 1.0, -compression, c_over_h, 4e-7);
+        assert!((whole - once).abs() < 1e-14);
+        for (k, dt) in [0.0, 1e-9, 1e-6, 1.0, 1e9].into_iter().enumerate() {
+            for divergence in [-1e12, -1.0, 0.0, 1e9] {
+                let alpha = switch.relax(0.1 + 0.2 * k as f64, 1.0, divergence, c_over_h, dt);
+                assert!((0.1..=1.0).contains(&alpha), "α = {alpha}");
+            }
+        }
+    }
 }

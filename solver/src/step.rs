@@ -214,6 +214,13 @@ impl SimulationConfig {
         if self.geometry == Geometry::Planar {
             return Ok(());
         }
+        if self.viscosity.switch.is_some() {
+            return Err(SolverError::invalid(
+                "viscosity switch",
+                "on",
+                "off in a radial geometry (its source is the Cartesian velocity divergence)",
+            ));
+        }
         if let Some(d) = dimension.filter(|&d| d != 1) {
             return Err(SolverError::invalid(
                 "geometry",
@@ -351,6 +358,10 @@ impl<const D: usize> Simulation<D> {
             stress: materials.iter().any(|m| m.strength.is_some()),
         };
         let mut particles = Particles::new(init, optional);
+        if config.viscosity.switch.is_some() {
+            // every particle starts with the full viscosity, until its flow shows it calm
+            particles.viscosity_alpha = vec![config.viscosity.alpha; init.len()];
+        }
         let mut burn = burn;
         if let Some(burn) = &mut burn {
             particles.burn_fraction = vec![0.0; init.len()];
@@ -694,15 +705,17 @@ impl<const D: usize> Simulation<D> {
             let hoop_rate = radius_gradient
                 .as_ref()
                 .map(|g| axisymmetric::hoop_strain_rates(p, g));
-            let gradients = (solids || self.config.viscosity.balsara).then(|| {
-                physics::velocity_gradients(
-                    p,
-                    &self.neighbours,
-                    &self.kernel,
-                    pair_kernel,
-                    pair_geometry,
-                )
-            });
+            let switch = self.config.viscosity.switch;
+            let gradients =
+                (solids || self.config.viscosity.balsara || switch.is_some()).then(|| {
+                    physics::velocity_gradients(
+                        p,
+                        &self.neighbours,
+                        &self.kernel,
+                        pair_kernel,
+                        pair_geometry,
+                    )
+                });
             let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
                 (Some(gradients), true) => Some(
                     (0..p.n_real())
@@ -718,6 +731,17 @@ impl<const D: usize> Simulation<D> {
                 ),
                 _ => None,
             };
+            if let (Some(switch), Some(gradients)) = (switch, &gradients) {
+                // α over the step that ends at `time`, with this state's compression
+                let dt = time - self.time;
+                let alpha_max = self.config.viscosity.alpha;
+                for (i, alpha) in p.viscosity_alpha.iter_mut().enumerate() {
+                    let divergence =
+                        gradients[i].trace() + hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
+                    let c_over_h = p.sound_speed[i] / p.smoothing_length[i];
+                    *alpha = switch.relax(*alpha, alpha_max, divergence, c_over_h, dt);
+                }
+            }
             self.wall_force = physics::compute_rates(
                 p,
                 &self.neighbours,

@@ -5,7 +5,7 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, Material, MieGruneisen, Simulation,
-    SimulationConfig, SmoothingLength, Strength, Vector,
+    SimulationConfig, SmoothingLength, Strength, Vector, ViscositySwitch,
 };
 
 fn noise(k: usize, salt: u64) -> f64 {
@@ -28,6 +28,23 @@ fn copper(yield_stress: f64) -> Material {
 /// 20 m/s, so that shear and normal stresses, rotation and (for a low yield) plastic flow all
 /// occur. Continuity density, as solids use.
 fn copper_box(n: usize, yield_stress: f64, density: DensityMethod, cfl: f64) -> Simulation<2> {
+    copper_box_with(
+        n,
+        yield_stress,
+        density,
+        cfl,
+        ArtificialViscosity::default(),
+    )
+}
+
+/// [`copper_box`] with the given viscosity.
+fn copper_box_with(
+    n: usize,
+    yield_stress: f64,
+    density: DensityMethod,
+    cfl: f64,
+    viscosity: ArtificialViscosity,
+) -> Simulation<2> {
     let dx = 0.01 / n as f64;
     let init: Vec<ParticleInit<2>> = (0..n * n)
         .map(|k| {
@@ -49,7 +66,7 @@ fn copper_box(n: usize, yield_stress: f64, density: DensityMethod, cfl: f64) -> 
     let config = SimulationConfig {
         density,
         smoothing: SmoothingLength::Fixed,
-        viscosity: ArtificialViscosity::default(),
+        viscosity,
         cfl,
         ..SimulationConfig::default()
     };
@@ -71,13 +88,45 @@ fn run_steps(sim: &mut Simulation<2>, steps: usize, dt: f64) {
 /// work) with an error that falls at second order in Δt: the stress terms are exactly
 /// conservative, only the time integration errs. Elastic (yield 10 GPa) and plastic (yield
 /// 20 MPa: the random flow exceeds it) copper, both density forms.
+/// The same with Morris & Monaghan's switch on (α_min = 0.1): each pair's viscosity scales by
+/// the mean of its two α, which keeps the pair forces antisymmetric.
 #[test]
 fn stress_terms_conserve_momentum_and_energy() {
-    for yield_stress in [10e9, 20e6] {
-        for density in [DensityMethod::Summation, DensityMethod::Continuity] {
+    let switched = ArtificialViscosity {
+        switch: Some(ViscositySwitch {
+            alpha_min: 0.1,
+            decay: ViscositySwitch::DECAY,
+        }),
+        ..ArtificialViscosity::default()
+    };
+    let cases = [
+        (
+            10e9,
+            DensityMethod::Summation,
+            ArtificialViscosity::default(),
+        ),
+        (
+            10e9,
+            DensityMethod::Continuity,
+            ArtificialViscosity::default(),
+        ),
+        (
+            20e6,
+            DensityMethod::Summation,
+            ArtificialViscosity::default(),
+        ),
+        (
+            20e6,
+            DensityMethod::Continuity,
+            ArtificialViscosity::default(),
+        ),
+        (20e6, DensityMethod::Continuity, switched),
+    ];
+    for (yield_stress, density, viscosity) in cases {
+        {
             let mut errors = Vec::new();
             for refinement in [1, 2] {
-                let mut sim = copper_box(20, yield_stress, density, 0.3);
+                let mut sim = copper_box_with(20, yield_stress, density, 0.3, viscosity);
                 let dt = 0.2 * sim.stable_time_step().unwrap() / refinement as f64;
                 let (p0, e0) = {
                     let p = sim.particles();
@@ -221,4 +270,70 @@ fn artificial_stress_stops_the_tensile_instability() {
         "no clumping without artificial stress: {without}"
     );
     assert!(with > 0.95, "clumping with artificial stress: {with}");
+}
+
+/// Morris & Monaghan's switch where nothing converges: a lattice in uniform motion through a
+/// periodic box has ∇·v = 0 exactly, so each particle's α must follow the switch's decay
+/// α_min + (α − α_min) exp(−ℓ c t/h) from its start at the full α; and where the random flow of
+/// the copper box converges, α must stay within [α_min, α] and rise above α_min.
+#[test]
+fn viscosity_switch_decays_without_compression_and_rises_with_it() {
+    let switch = ViscositySwitch {
+        alpha_min: 0.1,
+        decay: ViscositySwitch::DECAY,
+    };
+    let viscosity = ArtificialViscosity {
+        switch: Some(switch),
+        ..ArtificialViscosity::default()
+    };
+    let n = 12;
+    let dx = 0.01 / n as f64;
+    let init: Vec<ParticleInit<2>> = (0..n * n)
+        .map(|k| ParticleInit {
+            position: Vector::<2>::new(((k % n) as f64 + 0.5) * dx, ((k / n) as f64 + 0.5) * dx),
+            velocity: Vector::<2>::new(150.0, -60.0),
+            mass: 8930.0 * dx * dx,
+            smoothing_length: 1.2 * dx,
+            density: 8930.0,
+            internal_energy: 0.0,
+            material: 0,
+        })
+        .collect();
+    let config = SimulationConfig {
+        density: DensityMethod::Continuity,
+        smoothing: SmoothingLength::Fixed,
+        viscosity,
+        ..SimulationConfig::default()
+    };
+    let domain = Domain::new(
+        Vector::<2>::zeros(),
+        Vector::<2>::repeat(0.01),
+        [Boundary::Periodic; 2],
+    );
+    let mut sim = Simulation::new(&init, vec![copper(1e12)], domain, config).unwrap();
+    sim.run_until(2e-6, |_| {}).unwrap();
+    let p = sim.particles();
+    // the lattice's sound speed: the P-wave speed √((K + 4G/3)/ρ) the solver uses
+    let (g, k) = Strength::elastic_moduli(117e9, 0.35).unwrap();
+    let c = ((k + 4.0 * g / 3.0) / 8930.0).sqrt();
+    let expected = 0.1 + 0.9 * (-switch.decay * c * 2e-6 / (1.2 * dx)).exp();
+    for &alpha in &p.viscosity_alpha {
+        assert!(
+            (alpha - expected).abs() < 1e-9,
+            "α = {alpha}, expected {expected}"
+        );
+    }
+
+    let mut sim = copper_box_with(16, 20e6, DensityMethod::Continuity, 0.3, viscosity);
+    let dt = 0.3 * sim.stable_time_step().unwrap();
+    run_steps(&mut sim, 200, dt);
+    let alphas = &sim.particles().viscosity_alpha;
+    let (lowest, highest) = alphas
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+    assert!(
+        lowest >= 0.1 - 1e-12 && highest <= 1.0 + 1e-12,
+        "α in [{lowest}, {highest}]"
+    );
+    assert!(highest > 0.2, "converging flow never raised α: {highest}");
 }

@@ -30,7 +30,7 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::{full_contraction, von_mises};
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, Material, SimulationConfig,
-    SmoothingLength, Strength, Vector,
+    SmoothingLength, Strength, Vector, ViscositySwitch,
 };
 use std::f64::consts::PI;
 
@@ -126,6 +126,11 @@ fn info(model: Model) -> super::ProblemInfo {
                 "balsara",
                 "on",
                 "Balsara's switch on the viscosity: on or off",
+            ),
+            ParamSpec::new(
+                "alpha_min",
+                1.0,
+                "Morris & Monaghan's time-dependent viscosity: α relaxes to α_min where nothing converges (α_min = α: off)",
             ),
         ],
     }
@@ -373,6 +378,14 @@ pub fn run(
             }),
         },
         ..ArtificialViscosity::default()
+    };
+    let alpha_min = params.number("alpha_min", 0.0, viscosity.alpha)?;
+    let viscosity = ArtificialViscosity {
+        switch: (alpha_min < viscosity.alpha).then_some(ViscositySwitch {
+            alpha_min,
+            decay: ViscositySwitch::DECAY,
+        }),
+        ..viscosity
     };
     let mut measured = Vec::new();
     for (k, &n) in resolutions.iter().enumerate() {
