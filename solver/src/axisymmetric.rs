@@ -26,21 +26,28 @@
 //! breaks that symmetry: measured 0.5 % energy created in 2 µs of a jostled copper column,
 //! not shrinking with Δt, and 2.9 %, 1.6 % of the impact energy lost in the Taylor bar at 8, 12
 //! rings across). The even flux has a kink at the axis which the planar gradient smooths, so
-//! there the pair sum returns less than 2πσ_rr; the hoop terms carry the same discrete
-//! derivative G_i (below), so a uniform stress still stays at rest, and what remains is a
-//! local error of the first ring off the axis, whose hoop terms carry G ≈ 0.5 (the second
+//! there the pair sum returns less than 2πσ_rr; the hoop terms carry the kink's share of that
+//! (G_i, below), so a uniform stress stays at rest near the axis as elsewhere, and what remains
+//! is a local error of the first ring off the axis, whose hoop terms carry G ≈ 0.5 (the second
 //! ring's ≈ 1). The density must come from the continuity equation: a summation of ring
 //! masses near the axis smears η = 2π|r|ρ over the same kink (García-Senz et al. need
 //! explicit near-axis corrections for it).
 //!
-//! The hoop terms carry the discrete ∂r/∂r, G_i = Σ_j A_j (|r_j| − r_i) ∂W_ij/∂r_i with the
-//! ring areas A_j = m_j/η_j ([`radius_gradients`]), where the continuum has 1: the planar pair
-//! sum returns the gradient of the ring flux 2π|r| σ_rr as 2πσ_rr G_i, not 2πσ_rr (away from the
-//! axis the cubic spline's gradient sum at η = 1.2 is short by about 1 %), and a hoop force
-//! with 1 in place of G_i would leave the difference of σ_θθ/(ρr) uncancelled, at the first
-//! rings off the axis more than the forces that deform a Taylor bar. With G_i a uniform stress
-//! stays exactly at rest, and since the hoop strain rate v_r/r carries the same G_i, the hoop
-//! work still cancels in the energy.
+//! The hoop terms carry a factor G_i for that kink ([`radius_gradients`]): the planar pair sum
+//! returns the gradient of the ring flux 2π|r| σ_rr as 2πσ_rr G_i^even, where
+//! G_i^even = Σ_j A_j (|r_j| − r_i) ∂W_ij/∂r_i (A_j = m_j/η_j) is the pair sums' derivative of
+//! |r|, about 0.5 at the first ring off the axis; a hoop force with 1 there would leave most of
+//! σ_θθ/(ρr) uncancelled, more than the forces that deform a Taylor bar. The factor is
+//! G_i = G_i^even/G_i^odd, where G_i^odd is the same sum with the axis images at their signed
+//! radius (the field r continued linearly across the axis): the ratio is the kink alone. Away
+//! from the axis it is exactly 1, so the hoop force σ_θθ/(ρr) and the hoop strain rate v_r/r
+//! of a ring are the exact local ones, also at a free surface. (G^even alone there is about
+//! 0.5, the truncated kernel's, and halved a free rim's hoop restraint and hoop stretching:
+//! the Taylor bar's outer column then ran out along the wall as a tongue one particle thick,
+//! footprint +7 % at 16 rings across, issue 4 note.) The price is that a uniform stress is at
+//! rest only to the planar sums' own accuracy, about 1 % of the hoop term with the cubic spline
+//! at η = 1.2, where G^even alone balanced it to round-off. The hoop strain rate v_r/r carries
+//! the same G_i as the hoop force, so the hoop work still cancels in the energy.
 
 use crate::kernel::Kernel;
 use crate::neighbours::NeighbourList;
@@ -78,8 +85,11 @@ impl PairGeometry {
     }
 }
 
-/// G_i = Σ_j A_j (r_j − r_i) ∂W_ij/∂r_i, A_j = m_j/(2π|r_j|ρ_j), of the real particles: the
-/// planar pair sums' derivative of r (1 in the continuum; see the module note).
+/// The hoop factor G_i of the real particles: the kink that the even axis images put into the
+/// planar pair sums' derivative of r, G_i = G_i^even/G_i^odd with
+/// G_i^even = Σ_j A_j (|r_j| − r_i) ∂W_ij/∂r_i (the images at their mirrored radius, as the
+/// ring flux sees them) and G_i^odd the same sum with the images' signed r_j < 0 (the linear
+/// field r continued across the axis), A_j = m_j/(2π|r_j|ρ_j). See the module note.
 pub fn radius_gradients<const D: usize>(
     particles: &Particles<D>,
     neighbours: &NeighbourList,
@@ -90,25 +100,27 @@ pub fn radius_gradients<const D: usize>(
     (0..p.n_real())
         .into_par_iter()
         .map(|i| {
-            neighbours.of(i).fold(0.0, |sum, j| {
+            let (even, odd) = neighbours.of(i).fold((0.0, 0.0), |(even, odd), j| {
                 let dx = p.position[i] - p.position[j];
                 let r = dx.norm();
                 if r == 0.0 {
-                    return sum;
+                    return (even, odd);
                 }
                 let h = 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]);
                 let area = p.mass[j] / (p.density[j] * geometry.scales(p, j).0);
-                sum - area
-                    * kernel.derivative(r, h)
-                    * (p.position[i][0] - p.position[j][0].abs())
-                    * dx[0]
-                    / r
-            })
+                let weight = area * kernel.derivative(r, h) * dx[0] / r;
+                let (r_i, r_j) = (p.position[i][0], p.position[j][0]);
+                (
+                    even - weight * (r_i - r_j.abs()),
+                    odd - weight * (r_i - r_j),
+                )
+            });
+            even / odd
         })
         .collect()
 }
 
-/// The hoop strain rates ε̇_θθ = G_i v_r/r of the real particles.
+/// The hoop strain rates ε̇_θθ = G_i v_r/r of the real particles (G_i from [`radius_gradients`]).
 pub fn hoop_strain_rates<const D: usize>(
     particles: &Particles<D>,
     radius_gradient: &[f64],

@@ -34,7 +34,7 @@ pub use physics::{
     ViscositySwitch,
 };
 pub use radial::Geometry;
-pub use step::{PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
+pub use step::{ArtificialHeating, PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
 pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
 
 /// A point or vector in D dimensions.

@@ -531,6 +531,8 @@ struct Rates<const D: usize> {
     signal_speed: f64,
     /// The part of m_i a_i exerted by wall images.
     wall_force: Vector<D>,
+    /// The viscosity's share of De_i/Dt.
+    viscous_heating: f64,
 }
 
 /// The parameters of the rate loop that are the same for every pair.
@@ -597,6 +599,29 @@ impl PairKernel {
     }
 }
 
+/// Sums over the real particles that the rate loops return beside the per-particle rates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateTotals<const D: usize> {
+    /// The force the walls exert on the particles (N).
+    pub wall_force: Vector<D>,
+    /// Σ_i m_i × the viscosity's share of De_i/Dt (W, never negative): the kinetic energy the
+    /// artificial viscosity turns into heat.
+    pub viscous_heating: f64,
+    /// Σ_i m_i × the heat returned for the artificial stress's work (W): its negative is the
+    /// power the artificial stress puts into the motion.
+    pub artificial_stress_heating: f64,
+}
+
+impl<const D: usize> Default for RateTotals<D> {
+    fn default() -> Self {
+        Self {
+            wall_force: Vector::zeros(),
+            viscous_heating: 0.0,
+            artificial_stress_heating: 0.0,
+        }
+    }
+}
+
 /// Momentum, energy and (for continuity density or grad-h) density rates of the real particles:
 /// Dv_i/Dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇_i W_ij, or with continuity density the
 /// volume form −Σ_j m_j ((p_i + p_j)/(ρ_i ρ_j) + Π_ij) ∇_i W_ij (the seed's
@@ -613,7 +638,7 @@ impl PairKernel {
 /// particle's switch factor where the switch is on; particles that carry their own α
 /// ([`ViscositySwitch`]) scale Π_ij by (α_i + α_j)/(2α). In an axisymmetric `geometry` the pairs see
 /// ring densities and fluxes (see [`crate::axisymmetric`]) and the density rate is Dη/Dt.
-/// Returns the total force the walls exert on the particles.
+/// Returns the wall force and the viscous heating.
 #[allow(clippy::too_many_arguments)]
 pub fn compute_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -624,7 +649,7 @@ pub fn compute_rates<const D: usize>(
     pair_kernel: PairKernel,
     balsara: Option<&[f64]>,
     geometry: PairGeometry,
-) -> Vector<D> {
+) -> RateTotals<D> {
     let n = particles.n_real();
     let p = &*particles;
     let terms = RateTerms {
@@ -672,7 +697,7 @@ pub fn compute_rates<const D: usize>(
         .collect();
     let p = particles;
     let (continuity, grad_h) = (!p.density_rate.is_empty(), !p.smoothing_rate.is_empty());
-    let mut wall_force = Vector::zeros();
+    let mut totals = RateTotals::default();
     for (i, rate) in rates.iter().enumerate() {
         p.acceleration[i] = rate.acceleration;
         p.energy_rate[i] = rate.energy_rate;
@@ -684,9 +709,10 @@ pub fn compute_rates<const D: usize>(
             let density_rate = rate.density_rate / p.omega[i];
             p.smoothing_rate[i] = -p.smoothing_length[i] * density_rate / (D as f64 * p.density[i]);
         }
-        wall_force += rate.wall_force;
+        totals.wall_force += rate.wall_force;
+        totals.viscous_heating += p.mass[i] * rate.viscous_heating;
     }
-    wall_force
+    totals
 }
 
 #[inline(never)]
@@ -703,6 +729,7 @@ fn rates_at<const D: usize>(
         density_rate: 0.0,
         signal_speed: me.sound_speed,
         wall_force: Vector::zeros(),
+        viscous_heating: 0.0,
     };
     for part in neighbours.parts(i) {
         for &j in part {
@@ -745,6 +772,7 @@ fn rates_at<const D: usize>(
                     EnergyEquation::OwnPressure => pressure_i + 0.5 * viscous,
                     EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j + viscous),
                 };
+            out.viscous_heating += 0.5 * viscous * v_dot_rhat;
             out.energy_rate += m_j
                 * dw_mean
                 * terms.viscosity.conduction(
@@ -873,7 +901,8 @@ struct StressSource<const D: usize> {
 /// material m's G (0 for a fluid). With `artificial_stress`, Monaghan's term joins (see
 /// [`ArtificialStress`]). In an axisymmetric `geometry` the pairs see ring densities and
 /// fluxes, and `hoop_rate` (ε̇_θθ per real particle, [`crate::axisymmetric::hoop_strain_rates`])
-/// joins the heating, the equivalent strain rate and the stress rate. Returns the wall force.
+/// joins the heating, the equivalent strain rate and the stress rate. Returns the wall force
+/// and the artificial stress's heating (`viscous_heating` 0).
 #[allow(clippy::too_many_arguments)]
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -885,7 +914,7 @@ pub fn add_stress_rates<const D: usize>(
     artificial_stress: Option<ArtificialStress>,
     geometry: PairGeometry,
     hoop_rate: Option<&[f64]>,
-) -> Vector<D> {
+) -> RateTotals<D> {
     let n = particles.n_real();
     let p = &*particles;
     let volume_form = !p.density_rate.is_empty();
@@ -970,10 +999,11 @@ pub fn add_stress_rates<const D: usize>(
         })
         .collect();
     let p = particles;
-    let mut wall_force = Vector::zeros();
+    let mut totals = RateTotals::default();
     for (i, (acceleration, wall, heating)) in rates.into_iter().enumerate() {
         p.acceleration[i] += acceleration;
         p.energy_rate[i] += heating;
+        totals.artificial_stress_heating += p.mass[i] * heating;
         let s = p.deviatoric_stress[i];
         let gradient = &velocity_gradient[i];
         let strain_rate = 0.5 * (gradient + gradient.transpose());
@@ -988,9 +1018,9 @@ pub fn add_stress_rates<const D: usize>(
         } else {
             Tensor::zeros()
         };
-        wall_force += wall;
+        totals.wall_force += wall;
     }
-    wall_force
+    totals
 }
 
 #[cfg(test)]

@@ -19,7 +19,8 @@ use crate::kernel::{Kernel, KernelShape};
 use crate::neighbours::{find_neighbours, CellGrid, NeighbourList, PairReach};
 use crate::particles::{OptionalFields, ParticleInit, Particles};
 use crate::physics::{
-    self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, SmoothingSolution,
+    self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, RateTotals,
+    SmoothingSolution,
 };
 use crate::radial::{self, Geometry, RadialKernel};
 use crate::strength::YieldState;
@@ -260,6 +261,19 @@ pub struct PhaseTimes {
     pub integration: f64,
 }
 
+/// The heat (J) the artificial terms have put into the internal energy since the start, each
+/// the time integral of its power in [`RateTotals`] by the trapezoid rule, as the kicks
+/// integrate the internal energy: with the kinetic energy and the energies the state holds
+/// (elastic, plastic work) it closes the energy balance term by term.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArtificialHeating {
+    /// The artificial viscosity's heating, never negative.
+    pub viscosity: f64,
+    /// The heat returned for the artificial stress's work: negative where the artificial stress
+    /// has pushed particles apart, its work then taken from the internal energy.
+    pub artificial_stress: f64,
+}
+
 /// Steps between locality reorderings.
 const REORDER_INTERVAL: u64 = 16;
 
@@ -287,8 +301,10 @@ pub struct Simulation<const D: usize> {
     half: HalfStep<D>,
     time: f64,
     steps: u64,
-    wall_force: Vector<D>,
+    /// The rate loops' sums at the last force evaluation.
+    totals: RateTotals<D>,
     wall_impulse: Vector<D>,
+    heating: ArtificialHeating,
     times: PhaseTimes,
     /// Neighbour searches repeated because a grad-h root lay beyond the first search's reach.
     repeated_searches: u64,
@@ -378,8 +394,9 @@ impl<const D: usize> Simulation<D> {
             half: HalfStep::default(),
             time: 0.0,
             steps: 0,
-            wall_force: Vector::zeros(),
+            totals: RateTotals::default(),
             wall_impulse: Vector::zeros(),
+            heating: ArtificialHeating::default(),
             times: PhaseTimes::default(),
             repeated_searches: 0,
             burn,
@@ -410,6 +427,11 @@ impl<const D: usize> Simulation<D> {
     /// Neighbour searches repeated so far because a grad-h root lay beyond the search's reach.
     pub fn repeated_searches(&self) -> u64 {
         self.repeated_searches
+    }
+    /// The heat the artificial terms have made so far (planar and axisymmetric scenes; zero in
+    /// radial geometries, whose loops do not sum it).
+    pub fn artificial_heating(&self) -> ArtificialHeating {
+        self.heating
     }
     /// ∫ F_wall dt: the momentum the walls have delivered so far.
     pub fn wall_impulse(&self) -> Vector<D> {
@@ -452,11 +474,16 @@ impl<const D: usize> Simulation<D> {
         self.kick(0.5 * dt);
         self.drift_and_predict(dt);
         self.times.integration += start.elapsed().as_secs_f64();
-        let wall_force_before = self.wall_force;
+        let before = self.totals;
         self.evaluate_rates(self.time + dt)?;
         let start = Instant::now();
         self.close_kick(0.5 * dt);
-        self.wall_impulse += (wall_force_before + self.wall_force) * (0.5 * dt);
+        // the trapezoid rule, as the kicks integrate v and e
+        let after = self.totals;
+        self.wall_impulse += (before.wall_force + after.wall_force) * (0.5 * dt);
+        self.heating.viscosity += (before.viscous_heating + after.viscous_heating) * (0.5 * dt);
+        self.heating.artificial_stress +=
+            (before.artificial_stress_heating + after.artificial_stress_heating) * (0.5 * dt);
         self.time += dt;
         self.steps += 1;
         let health = self.check_health();
@@ -742,7 +769,7 @@ impl<const D: usize> Simulation<D> {
                     *alpha = switch.relax(*alpha, alpha_max, divergence, c_over_h, dt);
                 }
             }
-            self.wall_force = physics::compute_rates(
+            self.totals = physics::compute_rates(
                 p,
                 &self.neighbours,
                 &self.kernel,
@@ -758,7 +785,7 @@ impl<const D: usize> Simulation<D> {
                     .iter()
                     .map(|m| m.strength.map_or(0.0, |s| s.shear_modulus))
                     .collect();
-                self.wall_force += physics::add_stress_rates(
+                let stress = physics::add_stress_rates(
                     p,
                     &self.neighbours,
                     &self.kernel,
@@ -769,6 +796,8 @@ impl<const D: usize> Simulation<D> {
                     pair_geometry,
                     hoop_rate.as_deref(),
                 );
+                self.totals.wall_force += stress.wall_force;
+                self.totals.artificial_stress_heating = stress.artificial_stress_heating;
             }
             if let (Some(g), Some(hoop_rate)) = (&radius_gradient, &hoop_rate) {
                 axisymmetric::add_hoop_terms(p, g, hoop_rate);

@@ -3,16 +3,18 @@
 //! frictionless wall, E 117 GPa, ν 0.35, yield 400 MPa, hardening 100 MPa, ρ 8930, 80 µs),
 //! either as a 3D quarter model (mirror planes x = 0 and y = 0) or as rings in (r, z) about the
 //! bar's axis (solver::axisymmetric; the axis a mirror at r = 0). The wall at z = 0 is a mirror
-//! too: frictionless. Continuity density, η = 1.2, the viscosity with Balsara's switch and
-//! Monaghan's artificial stress (see the parameters).
+//! too: frictionless. Continuity density, η = 1.2, the viscosity with Balsara's switch, and in
+//! 3D Monaghan's artificial stress (see the parameters).
 //!
 //! Measured at 80 µs: the final length (highest particle plus half a spacing), the footprint
 //! radius (the farthest particle of the bottom layer from the axis plus half a spacing; in 3D
-//! the mean and least of the farthest per 15° sector are reported beside it), the
-//! energy balance (kinetic + internal against the initial kinetic energy, with the internal
-//! energy split into plastic work, elastic shear energy and the rest: bulk elastic and viscous
-//! heating), the largest equivalent plastic strain and the largest excess over the yield
-//! surface, and Taylor's (1948) one-dimensional estimate beside them. The rings hold the bar's
+//! the mean and least of the farthest per 15° sector are reported beside it), two energy
+//! balances against the initial kinetic energy: kinetic + internal (conservation), and the
+//! issue's itemised one, kinetic + elastic (shear s:s/(4Gρ) and bulk c0²(1 − ρ0/ρ)²/2) +
+//! plastic work (the return map's Y Δε_p) + the heat of the artificial viscosity and of the
+//! artificial stress (as the solver books them), whose terms are each computed on their own;
+//! the largest equivalent plastic strain and the largest excess over the yield surface, and
+//! Taylor's (1948) one-dimensional estimate beside them. The rings hold the bar's
 //! mass exactly; the quarter's square lattice inside the circle holds 3.5 % and 1.9 % more at 4
 //! and 5 particles across (its initial kinetic energy is reported): scaling the masses down to
 //! match would leave each particle's m/ρ smaller than its lattice cell and under-fill the
@@ -85,16 +87,25 @@ pub fn infos() -> Vec<super::ProblemInfo> {
 }
 
 fn info(model: Model) -> super::ProblemInfo {
-    let (summary, quick, full) = match model {
+    // the artificial stress each model needs (issue 4 note): the rings carry the hoop tension
+    // of the foot's rim within each particle and never clump, so they run without it; the
+    // quarter's rim, whose hoop tension pulls neighbouring particles apart along the rim,
+    // clumps and splashes along the wall without it (footprint +46 % at 5 across, sector mean
+    // +14 %) and is held only by Gray, Monaghan & Swift's ε = 0.3, whose forces then do about
+    // half the impact energy of work on the particles, which the viscosity turns back into
+    // heat (reported as artificial_stress_work_j and viscous_heating_j)
+    let (summary, quick, full, artificial_stress) = match model {
         Model::Axisymmetric => (
             "copper Taylor bar, 227 m/s, axisymmetric rings in (r, z)",
-            "6,8",
+            "6,12",
             "8,12,16",
+            0.0,
         ),
         Model::Quarter => (
             "copper Taylor bar, 227 m/s, quarter model with two symmetry planes",
             "4,5",
             "5,7,10",
+            0.3,
         ),
     };
     super::ProblemInfo {
@@ -111,15 +122,12 @@ fn info(model: Model) -> super::ProblemInfo {
             ParamSpec::new("t_end", END_TIME, "end time (s)"),
             ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
             ParamSpec::new("beta", 2.0, "artificial viscosity β"),
-            // the solid stabilisation the problem needs, measured on the quarter model (issue 4
-            // note): with the plain viscosity α = 1 the viscous heating takes a quarter of the
-            // impact energy and the bar stays 6 % too long; Balsara's switch spares the shear
-            // flow, but then the rim of the foot clumps and splashes along the wall (footprint
-            // +25…39 %) until Monaghan's artificial stress (Gray, Monaghan & Swift's ε = 0.3,
-            // n = 4) holds it
+            // Balsara's switch (below), measured on the quarter model (issue 4 note): with the
+            // plain viscosity α = 1 the viscous heating takes a quarter of the impact energy and
+            // the bar stays 6 % too long
             ParamSpec::new(
                 "artificial_stress",
-                0.3,
+                artificial_stress,
                 "Monaghan's artificial stress ε (n = 4; 0: off)",
             ),
             ParamSpec::new(
@@ -234,6 +242,8 @@ fn run_one<const D: usize>(
     let material: Material = library.material(MATERIAL)?;
     let strength: Strength = material.strength.expect("an elastic-plastic material");
     let rho0 = library.ambient_state(MATERIAL)?.0;
+    // the bulk sound speed of the linear bulk response (no Grüneisen term: e plays no part)
+    let c0_squared = material.eos.sound_speed(rho0, 0.0).powi(2);
     let dx = RADIUS / n_radius as f64;
     let init = bar_particles::<D>(n_radius, rho0);
     let mut hi = Vector::<D>::repeat(4.0 * RADIUS);
@@ -285,6 +295,16 @@ fn run_one<const D: usize>(
                 / (4.0 * strength.shear_modulus * p.density[i])
         })
         .sum();
+    // the linear bulk response p = ρ0 c0² (1 − ρ0/ρ) stores ∫ p dρ/ρ² = c0² (1 − ρ0/ρ)²/2
+    let bulk_elastic: f64 = (0..n)
+        .map(|i| {
+            let strain = 1.0 - rho0 / p.density[i];
+            0.5 * p.mass[i] * c0_squared * strain * strain
+        })
+        .sum();
+    let heat = sim.artificial_heating();
+    let itemised =
+        kinetic + shear_elastic + bulk_elastic + plastic + heat.viscosity + heat.artificial_stress;
     let max_plastic_strain = p.plastic_strain.iter().cloned().fold(0.0, f64::max);
     let max_temperature_rise = (0..n)
         .filter_map(|i| strength.temperature_rise(p.plastic_work[i]))
@@ -321,13 +341,20 @@ fn run_one<const D: usize>(
     m.insert("kinetic_energy_j".into(), whole * kinetic);
     m.insert("plastic_work_j".into(), whole * plastic);
     m.insert("shear_elastic_energy_j".into(), whole * shear_elastic);
+    m.insert("bulk_elastic_energy_j".into(), whole * bulk_elastic);
+    m.insert("viscous_heating_j".into(), whole * heat.viscosity);
+    // the work the artificial stress has done on the motion, taken from the internal energy
     m.insert(
-        "bulk_elastic_and_viscous_j".into(),
-        whole * (internal - plastic - shear_elastic),
+        "artificial_stress_work_j".into(),
+        -whole * heat.artificial_stress,
     );
     m.insert(
         "energy_balance_relative".into(),
         (kinetic + internal - kinetic0).abs() / kinetic0,
+    );
+    m.insert(
+        "itemised_energy_balance_relative".into(),
+        (itemised - kinetic0).abs() / kinetic0,
     );
     m.insert("max_plastic_strain".into(), max_plastic_strain);
     // reported only: the benchmark is isothermal (the yield stress does not soften)
@@ -442,11 +469,19 @@ pub fn run(
             f64::from(m.run.failure.is_none()),
             1.0,
         ));
-        checks.push(Check::at_most(
-            format!("energy_balance_relative_{label}"),
-            metric(&m.run, "energy_balance_relative"),
-            0.02,
-        ));
+        // the issue's 2 % for both balances: kinetic + internal is conserved to the time
+        // integration's error (1e-5 measured); the itemised terms add the hypoelastic shear
+        // energy's and the return map's first-order errors
+        for balance in [
+            "energy_balance_relative",
+            "itemised_energy_balance_relative",
+        ] {
+            checks.push(Check::at_most(
+                format!("{balance}_{label}"),
+                metric(&m.run, balance),
+                0.02,
+            ));
+        }
         checks.push(Check::at_most(
             format!("max_yield_excess_{label}"),
             metric(&m.run, "max_yield_excess"),
