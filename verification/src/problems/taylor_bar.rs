@@ -98,7 +98,7 @@ fn info(model: Model) -> super::ProblemInfo {
         Model::Axisymmetric => (
             "copper Taylor bar, 227 m/s, axisymmetric rings in (r, z)",
             "6,12",
-            "8,12,16",
+            "12,16,24",
             0.0,
         ),
         Model::Quarter => (
