@@ -3,7 +3,7 @@
 //! frictionless wall, E 117 GPa, ν 0.35, yield 400 MPa, hardening 100 MPa, ρ 8930, 80 µs),
 //! either as a 3D quarter model (mirror planes x = 0 and y = 0) or as rings in (r, z) about the
 //! bar's axis (solver::axisymmetric; the axis a mirror at r = 0). The wall at z = 0 is a mirror
-//! too: frictionless. Continuity density, η = 1.2, the viscosity with Balsara's switch, and in
+//! too: frictionless. Continuity density, h following the density with η = 1.2, the viscosity with Balsara's switch, and in
 //! 3D Monaghan's artificial stress (see the parameters).
 //!
 //! Measured at 80 µs: the final length (highest particle plus half a spacing), the footprint
@@ -119,6 +119,7 @@ fn info(model: Model) -> super::ProblemInfo {
                 "particles across the radius (one run each)",
             ),
             ParamSpec::new("cfl", 0.3, "Courant number C"),
+            ParamSpec::new("eta", 1.2, "smoothing length over particle spacing η (h follows ρ)"),
             ParamSpec::new("t_end", END_TIME, "end time (s)"),
             ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
             ParamSpec::new("beta", 2.0, "artificial viscosity β"),
@@ -192,7 +193,7 @@ fn layer_spacing(dx: f64) -> f64 {
 /// The particles of the bar at rest shape, moving at −SPEED along the last axis: a lattice of
 /// spacing dx across and dz along (`layer_spacing`), rings (mass 2πr ρ dx dz) or the quarter's
 /// boxes.
-fn bar_particles<const D: usize>(n_radius: usize, density: f64) -> Vec<ParticleInit<D>> {
+fn bar_particles<const D: usize>(n_radius: usize, density: f64, eta: f64) -> Vec<ParticleInit<D>> {
     let dx = RADIUS / n_radius as f64;
     let dz = layer_spacing(dx);
     let layers = (LENGTH / dz).round() as usize;
@@ -220,7 +221,7 @@ fn bar_particles<const D: usize>(n_radius: usize, density: f64) -> Vec<ParticleI
                         * dx.powi(D as i32 - 1)
                         * dz
                         * if D == 2 { 2.0 * PI * r } else { 1.0 },
-                    smoothing_length: 1.2 * dx,
+                    smoothing_length: eta * dx,
                     density,
                     internal_energy: 0.0,
                     material: 0,
@@ -234,7 +235,7 @@ fn bar_particles<const D: usize>(n_radius: usize, density: f64) -> Vec<ParticleI
 fn run_one<const D: usize>(
     model: Model,
     n_radius: usize,
-    (cfl, viscosity): (f64, ArtificialViscosity),
+    (cfl, eta, viscosity): (f64, f64, ArtificialViscosity),
     t_end: f64,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
@@ -245,7 +246,7 @@ fn run_one<const D: usize>(
     // the bulk sound speed of the linear bulk response (no Grüneisen term: e plays no part)
     let c0_squared = material.eos.sound_speed(rho0, 0.0).powi(2);
     let dx = RADIUS / n_radius as f64;
-    let init = bar_particles::<D>(n_radius, rho0);
+    let init = bar_particles::<D>(n_radius, rho0, eta);
     let mut hi = Vector::<D>::repeat(4.0 * RADIUS);
     hi[D - 1] = 2.0 * LENGTH;
     let domain = Domain::with_sides(
@@ -257,7 +258,7 @@ fn run_one<const D: usize>(
     let config = SimulationConfig {
         axisymmetric: model == Model::Axisymmetric,
         density: DensityMethod::Continuity,
-        smoothing: SmoothingLength::FollowDensity { eta: 1.2 },
+        smoothing: SmoothingLength::FollowDensity { eta },
         cfl,
         viscosity,
         min_time_step: 1e-9 * t_end,
@@ -389,6 +390,8 @@ pub fn run(
     let resolutions = params.integers("n_radius", 2, 60)?;
     let cfl = params.cfl()?;
     let t_end = params.number("t_end", 1e-7, 2e-4)?;
+    let (eta_low, eta_high) = blastsph_solver::step::ETA_RANGE;
+    let eta = params.number("eta", eta_low, eta_high)?;
     let viscosity = ArtificialViscosity {
         alpha: params.number("alpha", 0.0, 10.0)?,
         beta: params.number("beta", 0.0, 10.0)?,
@@ -417,7 +420,7 @@ pub fn run(
     let mut measured = Vec::new();
     for (k, &n) in resolutions.iter().enumerate() {
         let part = |f: f64| progress((k as f64 + f) / resolutions.len() as f64);
-        let settings = (cfl, viscosity);
+        let settings = (cfl, eta, viscosity);
         measured.push(match model {
             Model::Axisymmetric => run_one::<2>(model, n, settings, t_end, &part)?,
             Model::Quarter => run_one::<3>(model, n, settings, t_end, &part)?,
