@@ -239,6 +239,40 @@ fn bad_configuration_names_the_field_and_range() {
     .unwrap_err()
     .to_string();
     assert!(err.contains("density") && err.contains("> 0"), "{err}");
+    // the viscosity switch: α_min above α, a decay outside (0, 1], and a radial geometry
+    let switched = |alpha_min: f64, decay: f64, geometry: blastsph_solver::Geometry| {
+        let config = SimulationConfig {
+            geometry,
+            viscosity: blastsph_solver::ArtificialViscosity {
+                switch: Some(blastsph_solver::ViscositySwitch { alpha_min, decay }),
+                ..Default::default()
+            },
+            ..SimulationConfig::default()
+        };
+        Simulation::new(
+            &gas_at_rest_1d(),
+            vec![Material::new("air", gas)],
+            Domain::open(),
+            config,
+        )
+        .map(|_| ())
+    };
+    let planar = blastsph_solver::Geometry::Planar;
+    let err = switched(1.5, 0.2, planar).unwrap_err().to_string();
+    assert!(err.contains("alpha_min") && err.contains("≤ α"), "{err}");
+    let err = switched(0.1, 0.0, planar).unwrap_err().to_string();
+    assert!(
+        err.contains("switch decay") && err.contains("0 < ℓ ≤ 1"),
+        "{err}"
+    );
+    assert!(switched(0.1, 0.2, planar).is_ok());
+    let err = switched(0.1, 0.2, blastsph_solver::Geometry::Spherical)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("viscosity switch") && err.contains("radial"),
+        "{err}"
+    );
 }
 
 /// Runs `steps` steps of length `dt` forward, reverses every velocity, runs them again, and
