@@ -315,12 +315,16 @@ fn run_one<const D: usize>(
             von_mises(&p.deviatoric_stress[i]) / strength.current_yield(&p.yield_state(i)) - 1.0
         })
         .fold(f64::MIN, f64::max);
-    // the undeformed rear, for Taylor's estimate: above the highest particle strained
-    // plastically by more than the 0.2 % offset that defines a yield point
-    let deformed_top = (0..n)
-        .filter(|&i| p.plastic_strain[i] > 2e-3)
-        .map(axial)
-        .fold(0.0, f64::max);
+    // the undeformed rear, for Taylor's estimate: above the plastic zone that grows up from
+    // the foot, whose top is the lowest layer (of the initial spacing dz) in which no particle
+    // exceeds the 0.2 % offset that defines a yield point; a yielded patch further up (the
+    // rear end near the axis yields by up to 2 % at 16 and 24 rings across) is not part of it
+    let layers = (top / dz) as usize + 1;
+    let mut yielded = vec![false; layers];
+    for i in (0..n).filter(|&i| p.plastic_strain[i] > 2e-3) {
+        yielded[((axial(i) / dz).max(0.0) as usize).min(layers - 1)] = true;
+    }
+    let deformed_top = yielded.iter().position(|&y| !y).unwrap_or(layers) as f64 * dz;
     let m = &mut run.metrics;
     m.insert("final_length_mm".into(), 1e3 * final_length);
     m.insert("footprint_radius_mm".into(), 1e3 * footprint);
