@@ -104,9 +104,8 @@ pub struct ArtificialViscosity {
 /// so α rises towards α_max (the viscosity's `alpha`) where the flow converges, at a shock, and
 /// relaxes to α_min within a few τ, a few smoothing lengths of sound travel, behind it. A pair
 /// uses α_ij = (α_i + α_j)/2 and β_ij = β α_ij/α_max, so Π_ij is the full Π scaled by
-/// α_ij/α_max. Meant for flow that is not a shock: the plastic flow of a solid, which is
-/// isochoric and so gives no source, while the quadratic term that a shock needs stays whole
-/// wherever α is.
+/// α_ij/α_max (β = 2α, as Morris & Monaghan pair them). Meant for flow that is not a shock,
+/// such as the plastic flow of a solid, which is isochoric and so gives no source.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViscositySwitch {
     /// α_min, the viscosity left where nothing converges (0.1 in Morris & Monaghan).
@@ -146,7 +145,11 @@ impl ViscositySwitch {
 /// R' = −ε σ'/ρ², rotated back to R; pairs feel m_j (R_i + R_j) f_ij^n ∇_i W_ij with
 /// f_ij = W(r_ij)/W(Δp), Δp the mean particle spacing, which is large only for particles closer
 /// than their spacing: exactly the pairs the instability clumps. The work of these forces is
-/// returned as heat, half to each particle, so energy stays conserved.
+/// returned as heat, half to each particle, so energy stays conserved. They are not
+/// conservative: R grows as a pair opens under tension, so in a flow that keeps opening and
+/// closing pairs they do net work on the motion, taken from the internal energy (booked in
+/// [`crate::step::ArtificialHeating`]; half the impact energy in the 3D Taylor bar at 5
+/// particles across, issue 4 note).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArtificialStress {
     /// ε, 0.3 in Gray, Monaghan & Swift's elastic problems.
