@@ -277,6 +277,14 @@ impl ArtificialViscosity {
             return Err(SolverError::invalid("eta2", self.eta2, "0 < η² ≤ 1"));
         }
         if let Some(switch) = &self.switch {
+            // each particle's α is carried as a share of α, which must then be positive
+            if !(self.alpha > 0.0) {
+                return Err(SolverError::invalid(
+                    "alpha",
+                    self.alpha,
+                    "0 < α ≤ 10 with the viscosity switch on",
+                ));
+            }
             if !(0.0..=self.alpha).contains(&switch.alpha_min) {
                 return Err(SolverError::invalid(
                     "switch alpha_min",
@@ -770,12 +778,15 @@ fn rates_at<const D: usize>(
             let viscous = m_j * pi_ij * dw_mean;
             let v_dot_rhat = v_dot_x * inv_r;
             out.acceleration -= dx * ((pressure_i + pressure_j + viscous) * inv_r);
-            out.energy_rate += v_dot_rhat
-                * match terms.energy {
-                    EnergyEquation::OwnPressure => pressure_i + 0.5 * viscous,
-                    EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j + viscous),
-                };
-            out.viscous_heating += 0.5 * viscous * v_dot_rhat;
+            // half the pair's viscous dissipation heats each side, in both energy forms
+            let viscous_heating = 0.5 * viscous * v_dot_rhat;
+            out.viscous_heating += viscous_heating;
+            out.energy_rate += viscous_heating
+                + v_dot_rhat
+                    * match terms.energy {
+                        EnergyEquation::OwnPressure => pressure_i,
+                        EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j),
+                    };
             out.energy_rate += m_j
                 * dw_mean
                 * terms.viscosity.conduction(

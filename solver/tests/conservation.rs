@@ -265,6 +265,19 @@ fn bad_configuration_names_the_field_and_range() {
         err.contains("switch decay") && err.contains("0 < ℓ ≤ 1"),
         "{err}"
     );
+    let no_viscosity = SimulationConfig {
+        viscosity: blastsph_solver::ArtificialViscosity {
+            alpha: 0.0,
+            switch: Some(blastsph_solver::ViscositySwitch {
+                alpha_min: 0.0,
+                decay: 0.2,
+            }),
+            ..Default::default()
+        },
+        ..SimulationConfig::default()
+    };
+    let err = no_viscosity.validate().unwrap_err().to_string();
+    assert!(err.contains("alpha") && err.contains("switch on"), "{err}");
     assert!(switched(0.1, 0.2, planar).is_ok());
     let err = switched(0.1, 0.2, blastsph_solver::Geometry::Spherical)
         .unwrap_err()

@@ -3,8 +3,9 @@
 //! frictionless wall, E 117 GPa, ν 0.35, yield 400 MPa, hardening 100 MPa, ρ 8930, 80 µs),
 //! either as a 3D quarter model (mirror planes x = 0 and y = 0) or as rings in (r, z) about the
 //! bar's axis (solver::axisymmetric; the axis a mirror at r = 0). The wall at z = 0 is a mirror
-//! too: frictionless. Continuity density, h following the density with η = 1.2, the viscosity with Balsara's switch, and in
-//! 3D Monaghan's artificial stress (see the parameters).
+//! too: frictionless. Continuity density, h following the density with η = 1.2, the
+//! viscosity with Balsara's switch, and in 3D Monaghan's artificial stress (see the
+//! parameters).
 //!
 //! Measured at 80 µs: the final length (highest particle plus half a spacing), the footprint
 //! radius (the farthest particle of the bottom layer from the axis plus half a spacing; in 3D
