@@ -22,6 +22,7 @@ pub mod physics;
 pub mod radial;
 pub mod step;
 pub mod strength;
+pub mod total_lagrangian;
 
 pub use boundary::{Boundary, Domain};
 pub use burn::ProgrammedBurn;
@@ -36,6 +37,7 @@ pub use physics::{
 pub use radial::Geometry;
 pub use step::{ArtificialHeating, PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
 pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
+pub use total_lagrangian::SolidFormulation;
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

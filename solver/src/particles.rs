@@ -68,7 +68,7 @@ pub struct Particles<const D: usize> {
 
 /// A tensor seen in a mirror: components s_ab change sign with the product of the axis signs
 /// (a reflection across the plane normal to axis a flips s_ab for b ≠ a).
-fn mirrored<const D: usize>(s: &Tensor<D>, sign: &Vector<D>) -> Tensor<D> {
+pub(crate) fn mirrored<const D: usize>(s: &Tensor<D>, sign: &Vector<D>) -> Tensor<D> {
     Tensor::from_fn(|a, b| s[(a, b)] * sign[a] * sign[b])
 }
 

@@ -621,6 +621,9 @@ pub struct RateTotals<const D: usize> {
     /// Σ_i m_i × the heat returned for the artificial stress's work (W): its negative is the
     /// power the artificial stress puts into the motion.
     pub artificial_stress_heating: f64,
+    /// Σ_i m_i × the heat returned for the hourglass control's work (W; total-Lagrangian
+    /// solids, see [`crate::total_lagrangian`]).
+    pub hourglass_heating: f64,
 }
 
 impl<const D: usize> Default for RateTotals<D> {
@@ -629,6 +632,7 @@ impl<const D: usize> Default for RateTotals<D> {
             wall_force: Vector::zeros(),
             viscous_heating: 0.0,
             artificial_stress_heating: 0.0,
+            hourglass_heating: 0.0,
         }
     }
 }

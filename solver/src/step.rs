@@ -24,6 +24,7 @@ use crate::physics::{
 };
 use crate::radial::{self, Geometry, RadialKernel};
 use crate::strength::YieldState;
+use crate::total_lagrangian::{ReferenceConfiguration, SolidFormulation};
 use crate::{Tensor, Vector};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -123,6 +124,8 @@ pub struct SimulationConfig {
     pub cfl: f64,
     /// A time step below this (s) stops the run as collapsed.
     pub min_time_step: f64,
+    /// How solids are discretised: the updated form (the default) or total-Lagrangian.
+    pub solids: SolidFormulation,
 }
 
 impl Default for SimulationConfig {
@@ -137,6 +140,7 @@ impl Default for SimulationConfig {
             smoothing: SmoothingLength::FollowDensity { eta: 1.2 },
             cfl: 0.3,
             min_time_step: 1e-15,
+            solids: SolidFormulation::Updated,
         }
     }
 }
@@ -189,6 +193,7 @@ impl SimulationConfig {
             ));
         }
         self.validate_geometry(None)?;
+        self.solids.validate()?;
         self.viscosity.validate()
     }
 
@@ -196,6 +201,15 @@ impl SimulationConfig {
     /// the density (the grad-h terms are derived for Cartesian kernels only); axisymmetric
     /// scenes are 2D with continuity density. `dimension` is the scene's D where known.
     fn validate_geometry(&self, dimension: Option<usize>) -> Result<(), SolverError> {
+        if self.solids != SolidFormulation::Updated
+            && (self.axisymmetric || self.geometry != Geometry::Planar)
+        {
+            return Err(SolverError::invalid(
+                "solids",
+                self.solids.name(),
+                "updated in axisymmetric and radial geometries (the total-Lagrangian form is Cartesian)",
+            ));
+        }
         if self.axisymmetric {
             if dimension.is_some_and(|d| d != 2) || self.geometry != Geometry::Planar {
                 return Err(SolverError::invalid(
@@ -272,6 +286,8 @@ pub struct ArtificialHeating {
     /// The heat returned for the artificial stress's work: negative where the artificial stress
     /// has pushed particles apart, its work then taken from the internal energy.
     pub artificial_stress: f64,
+    /// The heat returned for the hourglass control's work (total-Lagrangian solids).
+    pub hourglass: f64,
 }
 
 /// Steps between locality reorderings.
@@ -310,6 +326,8 @@ pub struct Simulation<const D: usize> {
     repeated_searches: u64,
     /// The programmed burn's speed and ramp (its lighting times live in the particles).
     burn: Option<ProgrammedBurn>,
+    /// Total-Lagrangian solids: the bonds of the reference configuration.
+    reference: Option<ReferenceConfiguration<D>>,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -367,8 +385,26 @@ impl<const D: usize> Simulation<D> {
         if config.axisymmetric {
             validate_axisymmetric_scene(init, &domain)?;
         }
+        let total_lagrangian = config.solids != SolidFormulation::Updated;
+        if total_lagrangian {
+            if let Some(fluid) = materials.iter().find(|m| m.strength.is_none()) {
+                return Err(SolverError::invalid(
+                    "material",
+                    &fluid.name,
+                    "solids only in a total-Lagrangian scene",
+                ));
+            }
+            if burn.is_some() {
+                return Err(SolverError::invalid(
+                    "programmed burn",
+                    "on",
+                    "off in a total-Lagrangian scene (solids only)",
+                ));
+            }
+        }
         let optional = OptionalFields {
-            density_rate: config.density == DensityMethod::Continuity,
+            // the total-Lagrangian density is ρ0/det F
+            density_rate: config.density == DensityMethod::Continuity && !total_lagrangian,
             grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
             peak_density: materials.iter().any(|m| m.eos.remembers_peak_density()),
             stress: materials.iter().any(|m| m.strength.is_some()),
@@ -383,12 +419,16 @@ impl<const D: usize> Simulation<D> {
             particles.burn_fraction = vec![0.0; init.len()];
             particles.lighting_time = std::mem::take(&mut burn.lighting_time);
         }
+        let kernel = Kernel::new(config.kernel);
+        let reference = total_lagrangian
+            .then(|| ReferenceConfiguration::new(&particles, &domain, &kernel))
+            .transpose()?;
         let mut sim = Self {
             particles,
             materials,
             domain,
             config,
-            kernel: Kernel::new(config.kernel),
+            kernel,
             radial_kernel,
             neighbours: NeighbourList::default(),
             half: HalfStep::default(),
@@ -400,6 +440,7 @@ impl<const D: usize> Simulation<D> {
             times: PhaseTimes::default(),
             repeated_searches: 0,
             burn,
+            reference,
         };
         sim.evaluate_rates(0.0)?;
         sim.check_health()?;
@@ -484,6 +525,7 @@ impl<const D: usize> Simulation<D> {
         self.heating.viscosity += (before.viscous_heating + after.viscous_heating) * (0.5 * dt);
         self.heating.artificial_stress +=
             (before.artificial_stress_heating + after.artificial_stress_heating) * (0.5 * dt);
+        self.heating.hourglass += (before.hourglass_heating + after.hourglass_heating) * (0.5 * dt);
         self.time += dt;
         self.steps += 1;
         let health = self.check_health();
@@ -522,7 +564,8 @@ impl<const D: usize> Simulation<D> {
     fn reorder_for_locality(&mut self) {
         let p = &mut self.particles;
         p.clear_images();
-        if !self.steps.is_multiple_of(REORDER_INTERVAL) {
+        // total-Lagrangian bonds hold particle indices (and the lattice's order is local)
+        if !self.steps.is_multiple_of(REORDER_INTERVAL) || self.reference.is_some() {
             return;
         }
         let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
@@ -593,7 +636,10 @@ impl<const D: usize> Simulation<D> {
         for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
             *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);
         }
-        self.domain.wrap_periodic(p);
+        // total-Lagrangian bonds carry the periodic shift; a wrapped particle would break them
+        if self.reference.is_none() {
+            self.domain.wrap_periodic(p);
+        }
         self.half.velocity.clear();
         self.half.velocity.extend_from_slice(&p.velocity[..n]);
         self.half.internal_energy.clear();
@@ -646,6 +692,20 @@ impl<const D: usize> Simulation<D> {
     /// Smoothing lengths → images → neighbours → density → EOS (× burn fraction) → forces, for
     /// the state at `time`.
     fn evaluate_rates(&mut self, time: f64) -> Result<(), SolverError> {
+        if let (Some(reference), SolidFormulation::TotalLagrangian { hourglass }) =
+            (&self.reference, self.config.solids)
+        {
+            let start = Instant::now();
+            let totals = reference.evaluate(
+                &mut self.particles,
+                &self.materials,
+                &self.config.viscosity,
+                hourglass,
+            );
+            self.times.forces += start.elapsed().as_secs_f64();
+            self.totals = totals.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))?;
+            return Ok(());
+        }
         let start = Instant::now();
         match self.config.smoothing {
             SmoothingLength::GradH { eta, tolerance } => self.solve_grad_h(eta, tolerance)?,

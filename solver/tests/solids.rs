@@ -5,7 +5,7 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, Material, MieGruneisen, Simulation,
-    SimulationConfig, SmoothingLength, Strength, Vector, ViscositySwitch,
+    SimulationConfig, SmoothingLength, SolidFormulation, Strength, Vector, ViscositySwitch,
 };
 
 fn noise(k: usize, salt: u64) -> f64 {
@@ -52,6 +52,23 @@ fn copper_box_with(
     viscosity: ArtificialViscosity,
     velocity: impl Fn(usize) -> Vector<2>,
 ) -> Simulation<2> {
+    let config = SimulationConfig {
+        density,
+        smoothing: SmoothingLength::Fixed,
+        viscosity,
+        cfl,
+        ..SimulationConfig::default()
+    };
+    copper_box_configured(n, yield_stress, config, velocity)
+}
+
+/// [`copper_box`] with the given configuration and velocities.
+fn copper_box_configured(
+    n: usize,
+    yield_stress: f64,
+    config: SimulationConfig,
+    velocity: impl Fn(usize) -> Vector<2>,
+) -> Simulation<2> {
     let dx = 0.01 / n as f64;
     let init: Vec<ParticleInit<2>> = (0..n * n)
         .map(|k| {
@@ -70,13 +87,6 @@ fn copper_box_with(
             }
         })
         .collect();
-    let config = SimulationConfig {
-        density,
-        smoothing: SmoothingLength::Fixed,
-        viscosity,
-        cfl,
-        ..SimulationConfig::default()
-    };
     let domain = Domain::new(
         Vector::<2>::zeros(),
         Vector::<2>::repeat(0.01),
@@ -96,7 +106,9 @@ fn run_steps(sim: &mut Simulation<2>, steps: usize, dt: f64) {
 /// conservative, only the time integration errs. Elastic (yield 10 GPa) and plastic (yield
 /// 20 MPa: the random flow exceeds it) copper, both density forms.
 /// The same with Morris & Monaghan's switch on (α_min = 0.1): each pair's viscosity scales by
-/// the mean of its two α, which keeps the pair forces antisymmetric.
+/// the mean of its two α, which keeps the pair forces antisymmetric. And total-Lagrangian, whose
+/// forces are the derivative of the discrete strain energy and whose hourglass control returns
+/// its work as heat (κ = 1, periodic images as bonds).
 #[test]
 fn stress_terms_conserve_momentum_and_energy() {
     let switched = ArtificialViscosity {
@@ -129,12 +141,27 @@ fn stress_terms_conserve_momentum_and_energy() {
         ),
         (20e6, DensityMethod::Continuity, switched),
     ];
-    for (yield_stress, density, viscosity) in cases {
+    let cases = cases.map(|(yield_stress, density, viscosity)| {
+        let config = SimulationConfig {
+            density,
+            smoothing: SmoothingLength::Fixed,
+            viscosity,
+            ..SimulationConfig::default()
+        };
+        (yield_stress, config)
+    });
+    let total_lagrangian = SimulationConfig {
+        solids: SolidFormulation::TotalLagrangian { hourglass: 1.0 },
+        ..SimulationConfig::default()
+    };
+    let cases = cases
+        .into_iter()
+        .chain([(10e9, total_lagrangian), (20e6, total_lagrangian)]);
+    for (yield_stress, config) in cases {
         {
             let mut errors = Vec::new();
             for refinement in [1, 2] {
-                let mut sim =
-                    copper_box_with(20, yield_stress, density, 0.3, viscosity, random_velocity);
+                let mut sim = copper_box_configured(20, yield_stress, config, random_velocity);
                 let dt = 0.2 * sim.stable_time_step().unwrap() / refinement as f64;
                 let (p0, e0) = {
                     let p = sim.particles();
@@ -165,7 +192,9 @@ fn stress_terms_conserve_momentum_and_energy() {
             // second order: halving Δt divides the error by about 4 (at least 2.5 here)
             assert!(
                 errors[1] < errors[0] / 2.5 || errors[1] < 1e-12,
-                "{density:?}, Y = {yield_stress}: energy errors {errors:?}"
+                "{:?} {:?}, Y = {yield_stress}: energy errors {errors:?}",
+                config.density,
+                config.solids
             );
         }
     }

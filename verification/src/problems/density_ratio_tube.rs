@@ -115,6 +115,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         smoothing: SmoothingLength::FollowDensity { eta },
         cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
+        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         names,

@@ -244,6 +244,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         smoothing: SmoothingLength::FollowDensity { eta },
         cfl: params.cfl()?,
         min_time_step: 1e-9 * exact.end_time(2.0 * unit),
+        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         a,

@@ -184,6 +184,7 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
         smoothing: SmoothingLength::Fixed,
         cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
+        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         variant: v,

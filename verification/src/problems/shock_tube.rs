@@ -174,6 +174,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
         cfl: params.cfl()?,
         // a step 1e-9 of the run's length means the run would need 1e9 steps: collapsed
         min_time_step: 1e-9 * t_end,
+        solids: blastsph_solver::SolidFormulation::Updated,
     };
     case.t_out = t_end;
     let jitter = params.number("jitter", 0.0, 0.45)?;

@@ -33,7 +33,7 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::{full_contraction, von_mises};
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, Material, SimulationConfig,
-    SmoothingLength, Strength, Vector, ViscositySwitch,
+    SmoothingLength, SolidFormulation, Strength, Vector, ViscositySwitch,
 };
 use std::f64::consts::PI;
 
@@ -138,6 +138,16 @@ fn info(model: Model) -> super::ProblemInfo {
                 "Balsara's switch on the viscosity: on or off",
             ),
             ParamSpec::new(
+                "solids",
+                "updated",
+                "how the solid is discretised: updated (the kernel moves with the particles) or total-lagrangian (the kernel stays in the initial shape; balsara, artificial_stress and alpha_min do not apply, the viscosity acts on compression only)",
+            ),
+            ParamSpec::new(
+                "hourglass",
+                1.0,
+                "total-lagrangian: the hourglass control coefficient κ (pair stiffness κ E V_i V_j W_ij/|X_ij|²)",
+            ),
+            ParamSpec::new(
                 "alpha_min",
                 1.0,
                 "Morris & Monaghan's time-dependent viscosity: α relaxes to α_min where nothing converges (α_min = α: off)",
@@ -236,7 +246,7 @@ fn bar_particles<const D: usize>(n_radius: usize, density: f64, eta: f64) -> Vec
 fn run_one<const D: usize>(
     model: Model,
     n_radius: usize,
-    (cfl, eta, viscosity): (f64, f64, ArtificialViscosity),
+    (cfl, eta, viscosity, solids): (f64, f64, ArtificialViscosity, SolidFormulation),
     t_end: f64,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
@@ -263,6 +273,7 @@ fn run_one<const D: usize>(
         cfl,
         viscosity,
         min_time_step: 1e-9 * t_end,
+        solids,
         ..SimulationConfig::default()
     };
     let whole = model.whole_bar_factor();
@@ -305,8 +316,13 @@ fn run_one<const D: usize>(
         })
         .sum();
     let heat = sim.artificial_heating();
-    let itemised =
-        kinetic + shear_elastic + bulk_elastic + plastic + heat.viscosity + heat.artificial_stress;
+    let itemised = kinetic
+        + shear_elastic
+        + bulk_elastic
+        + plastic
+        + heat.viscosity
+        + heat.artificial_stress
+        + heat.hourglass;
     let max_plastic_strain = p.plastic_strain.iter().cloned().fold(0.0, f64::max);
     let max_temperature_rise = (0..n)
         .filter_map(|i| strength.temperature_rise(p.plastic_work[i]))
@@ -354,6 +370,9 @@ fn run_one<const D: usize>(
         "artificial_stress_work_j".into(),
         -whole * heat.artificial_stress,
     );
+    if let SolidFormulation::TotalLagrangian { .. } = solids {
+        m.insert("hourglass_work_j".into(), -whole * heat.hourglass);
+    }
     m.insert(
         "energy_balance_relative".into(),
         (kinetic + internal - kinetic0).abs() / kinetic0,
@@ -422,10 +441,20 @@ pub fn run(
         }),
         ..viscosity
     };
+    let solids = match params.choice(
+        "solids",
+        &[false, true],
+        |total| if total { "total-lagrangian" } else { "updated" },
+    )? {
+        false => SolidFormulation::Updated,
+        true => SolidFormulation::TotalLagrangian {
+            hourglass: params.number("hourglass", 0.0, 100.0)?,
+        },
+    };
     let mut measured = Vec::new();
     for (k, &n) in resolutions.iter().enumerate() {
         let part = |f: f64| progress((k as f64 + f) / resolutions.len() as f64);
-        let settings = (cfl, eta, viscosity);
+        let settings = (cfl, eta, viscosity, solids);
         measured.push(match model {
             Model::Axisymmetric => run_one::<2>(model, n, settings, t_end, &part)?,
             Model::Quarter => run_one::<3>(model, n, settings, t_end, &part)?,

@@ -193,6 +193,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         smoothing: SmoothingLength::FollowDensity { eta },
         cfl: params.cfl()?,
         min_time_step: 1e-9 * length / detonation.speed,
+        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         length,

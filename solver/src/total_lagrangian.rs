@@ -1,0 +1,514 @@
+//! Total-Lagrangian SPH for solids: the kernel lives in the reference (initial) configuration,
+//! so each particle keeps the neighbours it started with, every kernel sum is worked out once,
+//! and the motion enters through the deformation gradient F (Bonet & Lok 1999, Comput.
+//! Methods Appl. Mech. Eng. 180, 97; Vignjevic, Reveles & Campbell 2006, CMES 14, 181;
+//! Ganzenmüller 2015, CMAME 286, 87). This removes the two faults of the updated form in
+//! large plastic flow: the tensile instability, which belongs to a kernel that moves with the
+//! particles (Belytschko et al. 2000, IJNME 48, 1359), and the loss of neighbours where a free
+//! surface stretches (the Taylor bar's rim stretches 2.2 times around its circumference).
+//!
+//! With X the reference positions, V_j = m_j/ρ0_j, ∇W_ij = ∇_i W(|X_i − X_j|, h̄_ij) and the
+//! corrected gradient g_ij = L_i ∇W_ij, where L_i = B_i^{−T} and B_i = Σ_j V_j X_ij ⊗ ∇W_ij
+//! (X_ij = X_j − X_i), so that the gradient of any linear field is exact:
+//!
+//!   F_i = Σ_j V_j x_ij ⊗ g_ij,   Ḟ_i = Σ_j V_j v_ij ⊗ g_ij,   ρ_i = ρ0_i / det F_i,
+//!   l_i = Ḟ_i F_i⁻¹ (the velocity gradient that drives the Jaumann stress rate),
+//!   P_i = det F_i σ_i F_i⁻ᵀ, σ_i = −(p_i + q_i) I + s_i (first Piola–Kirchhoff stress),
+//!   m_i dv_i/dt = Σ_j V_i V_j (P_i L_i + P_j L_j) ∇W_ij,   m_i de_i/dt = V_i P_i : Ḟ_i.
+//!
+//! The force is minus the derivative of the discrete strain energy Σ_i V_i Ψ(F_i) with respect
+//! to x_i, so momentum and energy are conserved to round-off. q_i is a bulk viscosity, the
+//! artificial viscosity of finite-element codes (von Neumann & Richtmyer 1950; Wilkins 1980,
+//! J. Comput. Phys. 36, 281): q = ρ ℓ (α c |θ| + β ℓ θ²) under compression θ = tr l < 0, with
+//! ℓ the particle's current smallest spacing scaled by η (its h), so it heats only where the
+//! material is squeezed, never in isochoric plastic flow.
+//!
+//! Hourglass control (Ganzenmüller 2015): F_i is a least-squares fit of the neighbours'
+//! motion, blind to motions that leave it unchanged (zero-energy modes). Each pair's actual
+//! separation x_ij is compared with what the two particles' F predict, d_ij = x_ij −
+//! ½(F_i + F_j) X_ij, and its stretch along the pair, δ_ij = d_ij · x̂_ij, is resisted by the
+//! pair force f_ij = κ Ē_ij V_i V_j W_ij δ_ij / |X_ij|² x̂_ij on i (and −f_ij on j), κ the
+//! dimensionless coefficient and Ē_ij the pair's mean Young's modulus. Summed over a
+//! neighbourhood the stiffness is about κ Ē V_i per unit squared strain (Σ_j V_j W_ij ≈ 1): at
+//! κ = 1 a zero-energy mode meets the material's own stiffness. It has no potential, so its
+//! power is returned as heat, half to each particle, and booked (like the artificial stress's
+//! in the updated form), which keeps the energy conserved and its share visible.
+//!
+//! Symmetry planes and frictionless walls are mirror images of the reference configuration:
+//! an image of particle k is x = S x_k + c (S the reflection, c fixed), with S v_k, S P_k S and
+//! S L_k S. Its bonds are permanent, so a wall holds a particle in tension too.
+
+use crate::boundary::Domain;
+use crate::eos::Material;
+use crate::kernel::Kernel;
+use crate::neighbours::{find_neighbours, PairReach};
+use crate::particles::{mirrored, Particles};
+use crate::physics::{ArtificialViscosity, RateTotals};
+use crate::strength::{equivalent_strain_rate, jaumann_rate};
+use crate::{SolverError, Tensor, Vector};
+use rayon::prelude::*;
+
+/// How solids are discretised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolidFormulation {
+    /// The kernel moves with the particles and neighbours are searched every step (the
+    /// formulation of the fluids; solids need the artificial stress where they stretch).
+    Updated,
+    /// The kernel stays in the reference configuration (this module), with the hourglass
+    /// control coefficient κ.
+    TotalLagrangian { hourglass: f64 },
+}
+
+impl SolidFormulation {
+    pub fn name(self) -> &'static str {
+        match self {
+            SolidFormulation::Updated => "updated",
+            SolidFormulation::TotalLagrangian { .. } => "total-lagrangian",
+        }
+    }
+
+    pub fn validate(self) -> Result<(), SolverError> {
+        if let SolidFormulation::TotalLagrangian { hourglass } = self {
+            if !(0.0..=100.0).contains(&hourglass) {
+                return Err(SolverError::invalid(
+                    "hourglass coefficient",
+                    hourglass,
+                    "0 ≤ κ ≤ 100",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One neighbour j of a particle i in the reference configuration.
+#[derive(Clone, Copy, Debug)]
+struct Bond<const D: usize> {
+    /// The real particle j is, or whose mirror image it is.
+    other: u32,
+    /// j's position is `reflection ⊙ x_other + offset` (1 and 0 for a real particle).
+    reflection: Vector<D>,
+    offset: Vector<D>,
+    /// j is a wall's (or symmetry plane's) image: its force is the wall's reaction.
+    is_wall: bool,
+    /// X_ij = X_j − X_i.
+    separation: Vector<D>,
+    /// ∇_i W(|X_i − X_j|, h̄_ij).
+    kernel_gradient: Vector<D>,
+    /// V_j.
+    volume: f64,
+    /// V_i V_j W_ij / |X_ij|², the hourglass stiffness per unit modulus and coefficient.
+    hourglass_stiffness: f64,
+}
+
+/// The reference configuration: each particle's bonds, volume, density, correction matrix
+/// and smoothing length, fixed for the run.
+#[derive(Clone, Debug)]
+pub struct ReferenceConfiguration<const D: usize> {
+    offsets: Vec<usize>,
+    bonds: Vec<Bond<D>>,
+    volume: Vec<f64>,
+    density: Vec<f64>,
+    correction: Vec<Tensor<D>>,
+    smoothing_length: Vec<f64>,
+}
+
+/// The motion of one particle's neighbourhood.
+#[derive(Clone, Copy, Debug)]
+struct Kinematics<const D: usize> {
+    deformation: Tensor<D>,
+    deformation_rate: Tensor<D>,
+}
+
+/// What a particle's neighbours read of it in the force loop.
+#[derive(Clone, Copy, Debug)]
+struct StressSource<const D: usize> {
+    /// P_i L_i.
+    corrected_stress: Tensor<D>,
+    deformation: Tensor<D>,
+    young: f64,
+}
+
+impl<const D: usize> ReferenceConfiguration<D> {
+    /// The bonds of the particles as they stand (their positions and smoothing lengths), with
+    /// the images `domain` makes of them. Every particle must have neighbours enough in at
+    /// least D independent directions for its correction matrix.
+    pub fn new(
+        particles: &Particles<D>,
+        domain: &Domain<D>,
+        kernel: &Kernel<D>,
+    ) -> Result<Self, SolverError> {
+        let n = particles.n_real();
+        let mut reference = particles.clone();
+        let h_max = reference.smoothing_length[..n]
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max);
+        domain.make_images(&mut reference, kernel.support_radius(h_max));
+        let x = &reference.position;
+        let h = &reference.smoothing_length;
+        let neighbours = find_neighbours(x, h, kernel.shape().support(), PairReach::MeanH, n);
+        let volume: Vec<f64> = (0..n)
+            .map(|i| particles.mass[i] / particles.density[i])
+            .collect();
+        let mut offsets = vec![0];
+        let mut bonds = Vec::new();
+        let mut correction = Vec::with_capacity(n);
+        for i in 0..n {
+            let mut shape = Tensor::<D>::zeros();
+            for j in neighbours.of(i) {
+                let dx = x[i] - x[j];
+                let r = dx.norm();
+                if r == 0.0 {
+                    continue;
+                }
+                let h_mean = 0.5 * (h[i] + h[j]);
+                let kernel_gradient = kernel.gradient(&dx, r, h_mean);
+                let (other, reflection, is_wall) = match reference.image(j) {
+                    Some(image) => (image.source, image.velocity_sign, image.is_wall),
+                    None => (j as u32, Vector::repeat(1.0), false),
+                };
+                let k = other as usize;
+                let bond = Bond {
+                    other,
+                    reflection,
+                    offset: x[j] - reflection.component_mul(&x[k]),
+                    is_wall,
+                    separation: -dx,
+                    kernel_gradient,
+                    volume: volume[k],
+                    hourglass_stiffness: volume[i] * volume[k] * kernel.value(r, h_mean) / (r * r),
+                };
+                shape += bond.separation * bond.kernel_gradient.transpose() * bond.volume;
+                bonds.push(bond);
+            }
+            offsets.push(bonds.len());
+            let inverse = invert(&shape).filter(|_| determinant(&shape).abs() > 1e-3);
+            let Some(inverse) = inverse else {
+                return Err(SolverError::invalid(
+                    &format!("particle {} neighbourhood", particles.id[i]),
+                    format!("{} neighbours, det B = {:.3e}", offsets[i + 1] - offsets[i], determinant(&shape)),
+                    "neighbours in every direction (det B > 1e-3, 1 for a full lattice)",
+                ));
+            };
+            correction.push(inverse.transpose());
+        }
+        Ok(Self {
+            offsets,
+            bonds,
+            volume,
+            density: particles.density[..n].to_vec(),
+            correction,
+            smoothing_length: particles.smoothing_length[..n].to_vec(),
+        })
+    }
+
+    fn bonds_of(&self, i: usize) -> &[Bond<D>] {
+        &self.bonds[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// F, Ḟ and the least stretch of every particle's neighbourhood.
+    fn kinematics(&self, p: &Particles<D>) -> Vec<Kinematics<D>> {
+        (0..self.volume.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut separation_sum = Tensor::<D>::zeros();
+                let mut velocity_sum = Tensor::<D>::zeros();
+                for bond in self.bonds_of(i) {
+                    let k = bond.other as usize;
+                    let x_ij = bond.reflection.component_mul(&p.position[k]) + bond.offset
+                        - p.position[i];
+                    let v_ij = bond.reflection.component_mul(&p.velocity[k]) - p.velocity[i];
+                    let weighted = bond.kernel_gradient.transpose() * bond.volume;
+                    separation_sum += x_ij * weighted;
+                    velocity_sum += v_ij * weighted;
+                }
+                let l_transposed = self.correction[i].transpose();
+                Kinematics {
+                    deformation: separation_sum * l_transposed,
+                    deformation_rate: velocity_sum * l_transposed,
+                }
+            })
+            .collect()
+    }
+
+    /// Density, pressure, sound speed, stress rate and the forces and energy rates of every
+    /// particle (all real: this formulation makes no images). A neighbourhood turned inside out
+    /// (det F ≤ 0) stops with the particle's index and det F.
+    pub(crate) fn evaluate(
+        &self,
+        p: &mut Particles<D>,
+        materials: &[Material],
+        viscosity: &ArtificialViscosity,
+        hourglass: f64,
+    ) -> Result<RateTotals<D>, (usize, &'static str, f64)> {
+        let n = self.volume.len();
+        let kinematics = self.kinematics(p);
+        let mut sources = Vec::with_capacity(n);
+        let mut viscous_heating = 0.0;
+        for (i, kin) in kinematics.iter().enumerate() {
+            let jacobian = determinant(&kin.deformation);
+            let inverse = invert(&kin.deformation).filter(|_| jacobian > 0.0);
+            let Some(inverse) = inverse else {
+                return Err((i, "deformation gradient determinant", jacobian));
+            };
+            let material = &materials[p.material_of(i)];
+            let strength = material
+                .strength
+                .expect("a total-Lagrangian scene holds solids only");
+            let g = strength.shear_modulus;
+            p.density[i] = self.density[i] / jacobian;
+            // h shrinks with the material's most compressed direction: it sets the time step
+            // and the viscosity's length
+            p.smoothing_length[i] = self.smoothing_length[i] * least_singular_value(&inverse);
+            let (rho, e) = (p.density[i], p.internal_energy[i]);
+            let peak = p.peak_density_of(i);
+            p.pressure[i] = material.eos.pressure_after(rho, e, peak);
+            let bulk_speed = material.eos.sound_speed_after(rho, e, peak);
+            // a solid carries shear waves too: the P-wave speed √(c² + 4G/(3ρ)) sets the step
+            p.sound_speed[i] = (bulk_speed.powi(2) + 4.0 * g / (3.0 * rho)).sqrt();
+            let bulk = rho * bulk_speed.powi(2);
+            let young = 9.0 * bulk * g / (3.0 * bulk + g);
+            let velocity_gradient = kin.deformation_rate * inverse;
+            let strain_rate = 0.5 * (velocity_gradient + velocity_gradient.transpose());
+            let compression = (-strain_rate.trace()).max(0.0);
+            let spacing = p.smoothing_length[i];
+            let q = rho
+                * spacing
+                * compression
+                * (viscosity.alpha * p.sound_speed[i] + viscosity.beta * spacing * compression);
+            viscous_heating += p.mass[i] * q * compression / rho;
+            p.strain_rate[i] = equivalent_strain_rate(&strain_rate, 0.0);
+            let s = p.deviatoric_stress[i];
+            p.stress_rate[i] = jaumann_rate(g, &s, &velocity_gradient, 0.0);
+            let cauchy = s - Tensor::<D>::identity() * (p.pressure[i] + q);
+            let piola = cauchy * inverse.transpose() * jacobian;
+            p.energy_rate[i] = self.volume[i] * piola.component_mul(&kin.deformation_rate).sum()
+                / p.mass[i];
+            sources.push(StressSource {
+                corrected_stress: piola * self.correction[i],
+                deformation: kin.deformation,
+                young,
+            });
+        }
+        let p_read = &*p;
+        let rates: Vec<(Vector<D>, Vector<D>, f64, f64)> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let me = &sources[i];
+                let (mut force, mut wall) = (Vector::<D>::zeros(), Vector::<D>::zeros());
+                let (mut heating, mut approach) = (0.0, 0.0f64);
+                for bond in self.bonds_of(i) {
+                    let k = bond.other as usize;
+                    let other = &sources[k];
+                    let x_ij = bond.reflection.component_mul(&p_read.position[k]) + bond.offset
+                        - p_read.position[i];
+                    let v_ij =
+                        bond.reflection.component_mul(&p_read.velocity[k]) - p_read.velocity[i];
+                    // an image's tensors are its source's seen in the mirror (S A S)
+                    let stress_j = mirrored(&other.corrected_stress, &bond.reflection);
+                    let deformation_j = mirrored(&other.deformation, &bond.reflection);
+                    let mut pair = (me.corrected_stress + stress_j)
+                        * bond.kernel_gradient
+                        * (self.volume[i] * bond.volume);
+                    let r = x_ij.norm();
+                    if hourglass > 0.0 && r > 0.0 {
+                        let unit = x_ij / r;
+                        let predicted = 0.5 * (me.deformation + deformation_j) * bond.separation;
+                        let stretch = (x_ij - predicted).dot(&unit);
+                        let modulus = 0.5 * (me.young + other.young);
+                        let restoring =
+                            unit * (hourglass * modulus * bond.hourglass_stiffness * stretch);
+                        pair += restoring;
+                        // −f·(v_i − v_j), half of it to each of the pair
+                        heating += 0.5 * restoring.dot(&v_ij);
+                    }
+                    if r > 0.0 {
+                        approach = approach.max(-v_ij.dot(&x_ij) / r);
+                    }
+                    force += pair;
+                    if bond.is_wall {
+                        wall += pair;
+                    }
+                }
+                (force, wall, heating, approach)
+            })
+            .collect();
+        let mut totals = RateTotals::default();
+        for (i, (force, wall, heating, approach)) in rates.into_iter().enumerate() {
+            p.acceleration[i] = force / p.mass[i];
+            p.energy_rate[i] += heating / p.mass[i];
+            p.signal_speed[i] = p.sound_speed[i] + approach;
+            totals.wall_force += wall;
+            totals.hourglass_heating += heating;
+        }
+        totals.viscous_heating = viscous_heating;
+        Ok(totals)
+    }
+}
+
+/// The least singular value of F from F⁻¹: 1/√λ_max(F⁻¹F⁻ᵀ), the largest eigenvalue found by
+/// power iteration (to 1e-3; it only sets h for the time step and the viscosity).
+fn least_singular_value<const D: usize>(inverse: &Tensor<D>) -> f64 {
+    let c = inverse * inverse.transpose();
+    // start from C's longest column, which has a share of the leading eigenvector
+    let column = (0..D)
+        .max_by(|&a, &b| c.column(a).norm().total_cmp(&c.column(b).norm()))
+        .unwrap_or(0);
+    let mut v: Vector<D> = c.column(column).normalize();
+    let mut lambda = 0.0;
+    for _ in 0..50 {
+        let w = c * v;
+        let next = w.norm();
+        if next == 0.0 {
+            break;
+        }
+        v = w / next;
+        if (next - lambda).abs() <= 1e-3 * next {
+            lambda = next;
+            break;
+        }
+        lambda = next;
+    }
+    1.0 / lambda.sqrt()
+}
+
+/// det A for D = 1, 2, 3.
+pub fn determinant<const D: usize>(a: &Tensor<D>) -> f64 {
+    match D {
+        1 => a[(0, 0)],
+        2 => a[(0, 0)] * a[(1, 1)] - a[(0, 1)] * a[(1, 0)],
+        3 => (0..3).map(|b| a[(0, b)] * cofactor(a, 0, b)).sum(),
+        _ => unreachable!("D is 1, 2 or 3"),
+    }
+}
+
+/// The cofactor C_ab of A (D = 2, 3).
+fn cofactor<const D: usize>(a: &Tensor<D>, row: usize, column: usize) -> f64 {
+    match D {
+        2 => {
+            let sign = if (row + column) % 2 == 0 { 1.0 } else { -1.0 };
+            sign * a[(1 - row, 1 - column)]
+        }
+        _ => {
+            let (r1, r2) = ((row + 1) % 3, (row + 2) % 3);
+            let (c1, c2) = ((column + 1) % 3, (column + 2) % 3);
+            a[(r1, c1)] * a[(r2, c2)] - a[(r1, c2)] * a[(r2, c1)]
+        }
+    }
+}
+
+/// A⁻¹ = adj(A)/det A, or None where A is singular.
+pub fn invert<const D: usize>(a: &Tensor<D>) -> Option<Tensor<D>> {
+    let det = determinant(a);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    Some(match D {
+        1 => Tensor::<D>::from_element(1.0 / det),
+        _ => Tensor::<D>::from_fn(|r, c| cofactor(a, c, r) / det),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::boundary::Boundary;
+    use crate::kernel::KernelShape;
+    use crate::particles::{OptionalFields, ParticleInit};
+
+    /// A jittered 6×5×4 block of unit density, mirrored at x = 0 (a symmetry plane), open
+    /// elsewhere.
+    fn block() -> (Particles<3>, Domain<3>) {
+        let dx = 0.1;
+        let mut init = Vec::new();
+        for k in 0..6 * 5 * 4 {
+            let jitter = |salt: usize| 0.1 * (((k * 7919 + salt * 104729) % 1000) as f64 / 500.0 - 1.0);
+            let position = Vector::<3>::new(
+                ((k % 6) as f64 + 0.5 + jitter(1)) * dx,
+                ((k / 6 % 5) as f64 + 0.5 + jitter(2)) * dx,
+                ((k / 30) as f64 + 0.5 + jitter(3)) * dx,
+            );
+            init.push(ParticleInit {
+                position,
+                velocity: Vector::zeros(),
+                mass: dx.powi(3),
+                smoothing_length: 1.2 * dx,
+                density: 1.0,
+                internal_energy: 0.0,
+                material: 0,
+            });
+        }
+        let domain = Domain::with_sides(
+            Vector::<3>::zeros(),
+            Vector::<3>::repeat(1.0),
+            [Boundary::Wall, Boundary::Open, Boundary::Open],
+            [Boundary::Open; 3],
+        )
+        .unwrap();
+        (Particles::new(&init, OptionalFields::default()), domain)
+    }
+
+    /// The corrected gradient reproduces linear fields: under x = A X + b, v = B X (both
+    /// keeping the mirror plane x = 0: no shear across it, no shift along its normal) every
+    /// particle, inside, on the free surface and beside the mirror, has F = A and Ḟ = B to
+    /// round-off, and no bond deviates from the affine prediction, so the hourglass control
+    /// is silent.
+    #[test]
+    fn affine_motion_is_reproduced_exactly() {
+        let (mut p, domain) = block();
+        let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
+        let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
+        let a = Tensor::<3>::new(1.3, 0.0, 0.0, 0.0, 0.8, 0.25, 0.0, -0.1, 1.1);
+        let b = Tensor::<3>::new(-2.0, 0.0, 0.0, 0.0, 0.5, 3.0, 0.0, -1.0, 0.7);
+        let shift = Vector::<3>::new(0.0, 0.3, -0.2);
+        for i in 0..p.n_real() {
+            let x = p.position[i];
+            p.velocity[i] = b * x;
+            p.position[i] = a * x + shift;
+        }
+        for (i, kin) in reference.kinematics(&p).iter().enumerate() {
+            assert!((kin.deformation - a).norm() < 1e-12, "F at {i}: {}", kin.deformation);
+            assert!((kin.deformation_rate - b).norm() < 1e-12, "Ḟ at {i}");
+            for bond in reference.bonds_of(i) {
+                let k = bond.other as usize;
+                let x_ij =
+                    bond.reflection.component_mul(&p.position[k]) + bond.offset - p.position[i];
+                assert!((x_ij - a * bond.separation).norm() < 1e-13);
+            }
+        }
+        assert!(reference.bonds.iter().any(|bond| bond.is_wall));
+    }
+
+    /// A lone particle has no neighbourhood to correct: refused by name.
+    #[test]
+    fn a_particle_without_neighbours_is_refused() {
+        let (mut p, domain) = block();
+        p.position[0] = Vector::<3>::new(0.5, 5.0, 5.0);
+        let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
+        let error = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap_err();
+        assert!(error.to_string().contains("particle 0 neighbourhood"), "{error}");
+    }
+
+    #[test]
+    fn least_singular_value_of_a_stretch() {
+        // F = R·diag(2, 0.5, 1.5): singular values 2, 0.5, 1.5
+        let rotation = nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+        let f = rotation * Tensor::<3>::from_diagonal(&Vector::<3>::new(2.0, 0.5, 1.5));
+        let sigma = least_singular_value(&invert(&f).unwrap());
+        assert!((sigma / 0.5 - 1.0).abs() < 2e-3, "{sigma}");
+    }
+
+    #[test]
+    fn determinant_and_inverse_of_small_matrices() {
+        let a3 = Tensor::<3>::new(2.0, 1.0, 0.5, -1.0, 3.0, 0.2, 0.3, 0.1, 1.5);
+        let a2 = nalgebra::Matrix2::new(2.0, 1.0, -1.0, 3.0);
+        let a1 = nalgebra::Matrix1::new(4.0);
+        assert!((determinant(&a3) - a3.determinant()).abs() < 1e-12);
+        assert!((determinant(&a2) - 7.0).abs() < 1e-12);
+        assert!((invert(&a3).unwrap() * a3 - Tensor::<3>::identity()).norm() < 1e-12);
+        assert!((invert(&a2).unwrap() * a2 - nalgebra::Matrix2::identity()).norm() < 1e-12);
+        assert_eq!(invert(&a1).unwrap()[(0, 0)], 0.25);
+        assert!(invert(&Tensor::<3>::zeros()).is_none());
+    }
+}
