@@ -194,6 +194,22 @@ impl SimulationConfig {
         }
         self.validate_geometry(None)?;
         self.solids.validate()?;
+        if self.solids != SolidFormulation::Updated {
+            // the total-Lagrangian viscosity is a bulk viscosity of α and β alone
+            let v = &self.viscosity;
+            let pair_terms = [
+                ("artificial stress", v.artificial_stress.is_some()),
+                ("viscosity switch", v.switch.is_some()),
+                ("balsara", v.balsara),
+            ];
+            if let Some((field, _)) = pair_terms.iter().find(|(_, on)| *on) {
+                return Err(SolverError::invalid(
+                    field,
+                    "on",
+                    "off with total-Lagrangian solids (no tensile instability to cure; the bulk viscosity acts on compression only)",
+                ));
+            }
+        }
         self.viscosity.validate()
     }
 
@@ -703,7 +719,8 @@ impl<const D: usize> Simulation<D> {
                 hourglass,
             );
             self.times.forces += start.elapsed().as_secs_f64();
-            self.totals = totals.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))?;
+            self.totals =
+                totals.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))?;
             return Ok(());
         }
         let start = Instant::now();

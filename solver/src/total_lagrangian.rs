@@ -187,7 +187,11 @@ impl<const D: usize> ReferenceConfiguration<D> {
             let Some(inverse) = inverse else {
                 return Err(SolverError::invalid(
                     &format!("particle {} neighbourhood", particles.id[i]),
-                    format!("{} neighbours, det B = {:.3e}", offsets[i + 1] - offsets[i], determinant(&shape)),
+                    format!(
+                        "{} neighbours, det B = {:.3e}",
+                        offsets[i + 1] - offsets[i],
+                        determinant(&shape)
+                    ),
                     "neighbours in every direction (det B > 1e-3, 1 for a full lattice)",
                 ));
             };
@@ -216,8 +220,8 @@ impl<const D: usize> ReferenceConfiguration<D> {
                 let mut velocity_sum = Tensor::<D>::zeros();
                 for bond in self.bonds_of(i) {
                     let k = bond.other as usize;
-                    let x_ij = bond.reflection.component_mul(&p.position[k]) + bond.offset
-                        - p.position[i];
+                    let x_ij =
+                        bond.reflection.component_mul(&p.position[k]) + bond.offset - p.position[i];
                     let v_ij = bond.reflection.component_mul(&p.velocity[k]) - p.velocity[i];
                     let weighted = bond.kernel_gradient.transpose() * bond.volume;
                     separation_sum += x_ij * weighted;
@@ -283,8 +287,8 @@ impl<const D: usize> ReferenceConfiguration<D> {
             p.stress_rate[i] = jaumann_rate(g, &s, &velocity_gradient, 0.0);
             let cauchy = s - Tensor::<D>::identity() * (p.pressure[i] + q);
             let piola = cauchy * inverse.transpose() * jacobian;
-            p.energy_rate[i] = self.volume[i] * piola.component_mul(&kin.deformation_rate).sum()
-                / p.mass[i];
+            p.energy_rate[i] =
+                self.volume[i] * piola.component_mul(&kin.deformation_rate).sum() / p.mass[i];
             sources.push(StressSource {
                 corrected_stress: piola * self.correction[i],
                 deformation: kin.deformation,
@@ -423,7 +427,8 @@ mod tests {
         let dx = 0.1;
         let mut init = Vec::new();
         for k in 0..6 * 5 * 4 {
-            let jitter = |salt: usize| 0.1 * (((k * 7919 + salt * 104729) % 1000) as f64 / 500.0 - 1.0);
+            let jitter =
+                |salt: usize| 0.1 * (((k * 7919 + salt * 104729) % 1000) as f64 / 500.0 - 1.0);
             let position = Vector::<3>::new(
                 ((k % 6) as f64 + 0.5 + jitter(1)) * dx,
                 ((k / 6 % 5) as f64 + 0.5 + jitter(2)) * dx,
@@ -468,7 +473,11 @@ mod tests {
             p.position[i] = a * x + shift;
         }
         for (i, kin) in reference.kinematics(&p).iter().enumerate() {
-            assert!((kin.deformation - a).norm() < 1e-12, "F at {i}: {}", kin.deformation);
+            assert!(
+                (kin.deformation - a).norm() < 1e-12,
+                "F at {i}: {}",
+                kin.deformation
+            );
             assert!((kin.deformation_rate - b).norm() < 1e-12, "Ḟ at {i}");
             for bond in reference.bonds_of(i) {
                 let k = bond.other as usize;
@@ -487,7 +496,10 @@ mod tests {
         p.position[0] = Vector::<3>::new(0.5, 5.0, 5.0);
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let error = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap_err();
-        assert!(error.to_string().contains("particle 0 neighbourhood"), "{error}");
+        assert!(
+            error.to_string().contains("particle 0 neighbourhood"),
+            "{error}"
+        );
     }
 
     #[test]

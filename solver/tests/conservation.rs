@@ -286,6 +286,48 @@ fn bad_configuration_names_the_field_and_range() {
         err.contains("viscosity switch") && err.contains("radial"),
         "{err}"
     );
+    // total-Lagrangian solids: κ outside [0, 100], the updated form's pair terms, a fluid
+    // material, and a geometry other than planar
+    let total_lagrangian = |hourglass: f64| SimulationConfig {
+        solids: blastsph_solver::SolidFormulation::TotalLagrangian { hourglass },
+        ..SimulationConfig::default()
+    };
+    let err = total_lagrangian(-1.0).validate().unwrap_err().to_string();
+    assert!(
+        err.contains("hourglass") && err.contains("0 ≤ κ ≤ 100"),
+        "{err}"
+    );
+    let with_artificial_stress = SimulationConfig {
+        viscosity: blastsph_solver::ArtificialViscosity {
+            artificial_stress: Some(blastsph_solver::ArtificialStress::default()),
+            ..Default::default()
+        },
+        ..total_lagrangian(0.1)
+    };
+    let err = with_artificial_stress.validate().unwrap_err().to_string();
+    assert!(
+        err.contains("artificial stress") && err.contains("total-Lagrangian"),
+        "{err}"
+    );
+    let err = Simulation::new(
+        &gas_at_rest_1d(),
+        vec![Material::new("air", gas)],
+        Domain::open(),
+        total_lagrangian(0.1),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("material") && err.contains("solids only"),
+        "{err}"
+    );
+    let cylindrical = SimulationConfig {
+        geometry: blastsph_solver::Geometry::Cylindrical,
+        density: blastsph_solver::DensityMethod::Summation,
+        ..total_lagrangian(0.1)
+    };
+    let err = cylindrical.validate().unwrap_err().to_string();
+    assert!(err.contains("solids") && err.contains("Cartesian"), "{err}");
 }
 
 /// Runs `steps` steps of length `dt` forward, reverses every velocity, runs them again, and
