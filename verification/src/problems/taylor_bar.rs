@@ -285,7 +285,12 @@ fn run_one<const D: usize>(
     };
     let whole = model.whole_bar_factor();
     let kinetic0: f64 = init.iter().map(|p| 0.5 * p.mass * SPEED * SPEED).sum();
-    let mut run = Run::new(format!("n_radius = {n_radius}"), "", init.len(), dx);
+    let mut run = Run::new(
+        format!("n_radius = {n_radius}"),
+        solids.name(),
+        init.len(),
+        dx,
+    );
     let failed = |run: Run| Measured {
         run,
         snapshot: None,
