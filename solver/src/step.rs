@@ -410,13 +410,6 @@ impl<const D: usize> Simulation<D> {
                     "solids only in a total-Lagrangian scene",
                 ));
             }
-            if burn.is_some() {
-                return Err(SolverError::invalid(
-                    "programmed burn",
-                    "on",
-                    "off in a total-Lagrangian scene (solids only)",
-                ));
-            }
         }
         let optional = OptionalFields {
             // the total-Lagrangian density is ρ0/det F
