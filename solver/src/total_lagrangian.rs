@@ -183,14 +183,14 @@ impl<const D: usize> ReferenceConfiguration<D> {
                 bonds.push(bond);
             }
             offsets.push(bonds.len());
-            let inverse = invert(&shape).filter(|_| determinant(&shape).abs() > 1e-3);
+            let det = determinant(&shape);
+            let inverse = invert(&shape).filter(|_| det.abs() > 1e-3);
             let Some(inverse) = inverse else {
                 return Err(SolverError::invalid(
                     &format!("particle {} neighbourhood", particles.id[i]),
                     format!(
-                        "{} neighbours, det B = {:.3e}",
-                        offsets[i + 1] - offsets[i],
-                        determinant(&shape)
+                        "{} neighbours, det B = {det:.3e}",
+                        offsets[i + 1] - offsets[i]
                     ),
                     "neighbours in every direction (det B > 1e-3, 1 for a full lattice)",
                 ));

@@ -15,7 +15,8 @@
 //! balances against the initial kinetic energy: kinetic + internal (conservation), and the
 //! issue's itemised one, kinetic + elastic (shear s:s/(4Gρ) and bulk c0²(1 − ρ0/ρ)²/2) +
 //! plastic work (the return map's Y Δε_p) + the heat of the artificial viscosity, of the
-//! artificial stress and of the hourglass control (as the solver books them), whose terms are each computed on their own;
+//! artificial stress and of the hourglass control (as the solver books them), whose terms are
+//! each computed on their own;
 //! the largest equivalent plastic strain and the largest excess over the yield surface, and
 //! Taylor's (1948) one-dimensional estimate beside them. The rings hold the bar's
 //! mass exactly; the quarter's square lattice inside the circle holds 3.5 % and 1.9 % more at 4
@@ -147,7 +148,7 @@ fn info(model: Model) -> super::ProblemInfo {
             ParamSpec::new(
                 "solids",
                 solids,
-                "how the solid is discretised: updated (the kernel moves with the particles) or total-lagrangian (the kernel stays in the initial shape; balsara, artificial_stress and alpha_min do not apply, the viscosity acts on compression only)",
+                "how the solid is discretised: updated (the kernel moves with the particles) or total-lagrangian (the kernel stays in the initial shape; needs balsara off, artificial_stress 0 and alpha_min = alpha; the viscosity acts on compression only)",
             ),
             ParamSpec::new(
                 "hourglass",
