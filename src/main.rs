@@ -279,9 +279,9 @@ fn verify(
         .map(|s| parse_assignment(s))
         .collect::<Result<Vec<_>, _>>()?;
     for name in &names {
-        let info = problems::find(name)?;
-        blastsph_verification::params::Params::new(name, &info.params, level, &overrides)?;
+        problems::preflight(name, level, &overrides)?;
     }
+    report::ensure_writable(&out)?;
     if let Some(n) = threads {
         if n == 0 {
             return Err(VerifyError::bad_value("--threads", n, "≥ 1"));
@@ -536,6 +536,7 @@ fn soil_command(command: SoilCommand) -> Result<(), VerifyError> {
                 ("axial_strain", axial_strain.to_string()),
             ]
             .map(|(k, v)| (k.to_string(), v));
+            report::ensure_writable(&out)?;
             let output = problems::run("biaxial", Level::Full, &overrides, &|_| {})?;
             report::write_outputs(&out, &output)?;
             let strength = biaxial_strength(&output.record, seed, grains);

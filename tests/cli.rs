@@ -160,6 +160,37 @@ fn non_physical_parameters_are_exit_2_with_the_range() {
     }
 }
 
+/// A run that could not save its outputs, or would not fit in memory, is refused before it
+/// starts (nothing printed on stdout, not even the table header).
+#[test]
+fn unwritable_output_and_oversized_runs_are_refused_before_running() {
+    let out = blastsph(&["verify", "sod", "--out", "/proc/forbidden"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("/proc/forbidden"), "{}", stderr(&out));
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+
+    let dir = std::env::temp_dir().join(format!("blastsph-cli-large-{}", std::process::id()));
+    let out = blastsph(&[
+        "verify",
+        "sedov-3d",
+        "--set",
+        "n=1500",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("n = 1500") && err.contains("GiB") && err.contains("largest n that fits"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
 #[test]
 fn riemann_prints_the_sod_star_state_as_json() {
     let out = blastsph(&[

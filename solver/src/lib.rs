@@ -20,6 +20,7 @@ pub mod operators;
 pub mod particles;
 pub mod physics;
 pub mod radial;
+pub mod random;
 pub mod step;
 pub mod strength;
 pub mod total_lagrangian;

@@ -93,13 +93,19 @@ impl<const D: usize> CellGrid<D> {
     pub fn build(positions: &[Vector<D>], min_cell_size: f64) -> Self {
         assert!(min_cell_size > 0.0 && min_cell_size.is_finite());
         let (lo, hi) = bounding_box(positions);
+        // callers run the health check (finite positions) before binning
+        assert!(
+            lo.iter().chain(hi.iter()).all(|x| x.is_finite()),
+            "CellGrid::build needs finite positions"
+        );
         let max_cells = 4 * positions.len() + 64;
         let mut cell_size = min_cell_size;
         let dims = loop {
-            let dims: [usize; D] =
-                std::array::from_fn(|a| ((hi[a] - lo[a]) / cell_size).floor() as usize + 1);
-            if dims.iter().product::<usize>() <= max_cells {
-                break dims;
+            // counted in f64: the product of a far outlier's cell counts overflows usize
+            let cells_per_axis: [f64; D] =
+                std::array::from_fn(|a| ((hi[a] - lo[a]) / cell_size).floor() + 1.0);
+            if cells_per_axis.iter().product::<f64>() <= max_cells as f64 {
+                break cells_per_axis.map(|n| n as usize);
             }
             cell_size *= 2.0;
         };

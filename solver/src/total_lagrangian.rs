@@ -391,7 +391,11 @@ pub fn determinant<const D: usize>(a: &Tensor<D>) -> f64 {
 fn cofactor<const D: usize>(a: &Tensor<D>, row: usize, column: usize) -> f64 {
     match D {
         2 => {
-            let sign = if (row + column) % 2 == 0 { 1.0 } else { -1.0 };
+            let sign = if (row + column).is_multiple_of(2) {
+                1.0
+            } else {
+                -1.0
+            };
             sign * a[(1 - row, 1 - column)]
         }
         _ => {

@@ -8,6 +8,7 @@
 pub mod impedance;
 pub mod laplace_young;
 pub mod materials;
+pub mod memory;
 pub mod norms;
 pub mod params;
 pub mod problems;
@@ -60,6 +61,18 @@ pub enum VerifyError {
         field: String,
         value: String,
         allowed: String,
+    },
+    #[error(
+        "{field} = {value} needs about {estimate_gib:.1} GiB of memory ({particles:.3e} particles); \
+         {available_gib:.1} GiB are available: the largest {field} that fits is {largest}"
+    )]
+    TooLarge {
+        field: String,
+        value: usize,
+        particles: f64,
+        estimate_gib: f64,
+        available_gib: f64,
+        largest: usize,
     },
     #[error(transparent)]
     Solver(#[from] blastsph_solver::SolverError),

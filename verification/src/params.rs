@@ -4,6 +4,8 @@
 use crate::{Level, VerifyError};
 use std::collections::BTreeMap;
 
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
 /// One declared parameter.
 #[derive(Clone, Debug)]
 pub struct ParamSpec {
@@ -141,6 +143,46 @@ impl Params {
             .collect::<Result<_, _>>()?;
         if list.is_empty() || list.iter().any(|&n| n < lo || n > hi) {
             return Err(bad());
+        }
+        Ok(list)
+    }
+
+    /// Resolutions as [`Params::integers`], each refused where the run it sets would not fit
+    /// in the memory this machine has available: `particles(n)` is the particle count at
+    /// resolution n in a `dimension`-D run. The error gives the estimate and the largest
+    /// resolution that fits.
+    pub fn resolutions(
+        &self,
+        key: &str,
+        lo: usize,
+        hi: usize,
+        dimension: usize,
+        particles: impl Fn(usize) -> f64,
+    ) -> Result<Vec<usize>, VerifyError> {
+        let list = self.integers(key, lo, hi)?;
+        let Some(available) = crate::memory::available_bytes() else {
+            return Ok(list);
+        };
+        let need = |n: usize| particles(n) * crate::memory::bytes_per_particle(dimension);
+        if let Some(&n) = list.iter().find(|&&n| need(n) > available) {
+            // the particle count grows with n: bisect for the largest n that fits
+            let (mut fits, mut too_large) = (lo, n);
+            while too_large - fits > 1 {
+                let mid = fits + (too_large - fits) / 2;
+                if need(mid) > available {
+                    too_large = mid;
+                } else {
+                    fits = mid;
+                }
+            }
+            return Err(VerifyError::TooLarge {
+                field: key.to_string(),
+                value: n,
+                particles: particles(n),
+                estimate_gib: need(n) / GIB,
+                available_gib: available / GIB,
+                largest: fits,
+            });
         }
         Ok(list)
     }

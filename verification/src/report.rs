@@ -38,6 +38,19 @@ pub fn table_to_csv(table: &Table) -> Vec<u8> {
     writer.into_inner().expect("writing to memory")
 }
 
+/// Creates `dir` if missing and proves it writable by writing and removing a probe file, so that
+/// a run whose outputs could not be saved is refused before it starts.
+pub fn ensure_writable(dir: &Path) -> Result<(), VerifyError> {
+    let io = |source| VerifyError::Io {
+        path: dir.display().to_string(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(io)?;
+    let probe = dir.join(format!(".write-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(io)?;
+    std::fs::remove_file(&probe).map_err(io)
+}
+
 /// Writes each (name, bytes) into `dir` atomically, in order; returns the paths.
 fn write_files<N: AsRef<str>>(
     dir: &Path,

@@ -12,8 +12,9 @@ use super::capillary::{
     bridge_force as capillary_force, effective_radius, BridgeLaw, Liquid, RuptureCriterion,
 };
 use super::discs::{ContactModel, Discs, Wall, Wetting};
-use super::sample::{expand_to_stress, graded_diameters, place_without_overlap, SplitMix64};
+use super::sample::{expand_to_stress, graded_diameters, place_without_overlap};
 use crate::error::SolverError;
+use crate::random::SplitMix64;
 use crate::Vector;
 
 /// The membrane: two chains of particles, one per side, joined by tension-only links, with the

@@ -58,6 +58,21 @@ pub fn find(name: &str) -> Result<ProblemInfo, VerifyError> {
         })
 }
 
+/// Checks a problem's name and `--set` overrides, and that its runs fit in memory, without
+/// running it: the command line calls this for every problem before it starts the first.
+pub fn preflight(
+    name: &str,
+    level: Level,
+    overrides: &[(String, String)],
+) -> Result<(), VerifyError> {
+    let info = find(name)?;
+    let params = Params::new(name, &info.params, level, overrides)?;
+    if sedov_blast::is_sedov(name) {
+        sedov_blast::resolutions(name, &params)?;
+    }
+    Ok(())
+}
+
 /// Runs one problem at `level` with `--set` overrides; `progress` receives the fraction done.
 pub fn run(
     name: &str,

@@ -442,6 +442,19 @@ fn direction_spread(state: &FinalState, width: f64) -> Option<f64> {
     Some((hi - lo) / mean)
 }
 
+/// The resolutions `n`, each refused where its run would not fit in memory: n shells in the
+/// radial runs, an n^D lattice in the quadrant or octant.
+pub fn resolutions(name: &str, params: &Params) -> Result<Vec<usize>, VerifyError> {
+    let dimension = match name {
+        "sedov-2d" => 2,
+        "sedov-3d" => 3,
+        _ => 1,
+    };
+    params.resolutions("n", 4, 100_000, dimension, |n| {
+        (n as f64).powi(dimension as i32)
+    })
+}
+
 pub fn run(
     name: &str,
     params: &Params,
@@ -450,7 +463,7 @@ pub fn run(
 ) -> Result<ProblemOutput, VerifyError> {
     let v = variant(name).expect("a Sedov problem");
     let base = settings(v, params)?;
-    let resolutions = params.integers("n", 4, 100_000)?;
+    let resolutions = resolutions(name, params)?;
     let formulations = params.choices(
         "smoothing",
         &SmoothingLength::all(base.eta),

@@ -17,6 +17,7 @@ use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::random::SplitMix64;
 use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, Geometry, IdealGas,
@@ -251,9 +252,9 @@ fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
     };
     let eos = IdealGas::new(s.gamma).expect("gamma validated");
     let eta = s.eta;
-    let mut random = SplitMix64(s.seed);
+    let mut random = SplitMix64::new(s.seed);
     let mut particle = |x: f64, state: &GasState, dx: f64| ParticleInit {
-        position: Vector::<1>::new(x + s.jitter * dx * (2.0 * random.next_unit() - 1.0)),
+        position: Vector::<1>::new(x + s.jitter * dx * (2.0 * random.uniform() - 1.0)),
         velocity: Vector::<1>::new(state.u),
         mass,
         smoothing_length: eta * dx,
@@ -277,21 +278,6 @@ fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
     )
     .expect("walls or open ends on a valid interval");
     (init, domain)
-}
-
-/// SplitMix64 (Steele, Lea & Flood 2014): a small, seedable generator for reproducible jitter.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    /// A uniform number in [0, 1).
-    fn next_unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// "density, smoothing length": what distinguishes one work–precision curve from another.
