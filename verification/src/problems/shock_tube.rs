@@ -137,6 +137,28 @@ fn info(name: &'static str, summary: &'static str, case: &Case) -> super::Proble
     }
 }
 
+/// The resolution (left particles) at which [`l1_limits`] hold.
+const LIMIT_RESOLUTION: usize = 400;
+
+/// L1 limits of ρ, u, p, e at 400 left particles for Toro's test `test`, with the defaults
+/// (cubic spline, η = 2, α = 1, β = 2, C = 0.3): twice the errors measured there, rounded up
+/// (the run is deterministic, so a wider margin would only hide a change). Test 1 keeps
+/// the 6e-3 on ρ that Sod's problem was first given (measured 3.75e-3).
+fn l1_limits(test: usize) -> [f64; 4] {
+    match test {
+        // measured 3.75e-3, 0.016, 4.11e-3, 0.0212
+        1 => [6e-3, 0.035, 9e-3, 0.045],
+        // measured 1.97e-3, 6.4e-3, 6.52e-4, 0.0125
+        2 => [4e-3, 0.015, 1.5e-3, 0.025],
+        // measured 9.55e-3, 0.089, 2.13, 2.1 (p_L = 1000)
+        3 => [0.02, 0.18, 4.5, 4.5],
+        // measured 9.01e-3, 0.0275, 0.209, 0.208 (p_R = 100)
+        4 => [0.02, 0.06, 0.45, 0.45],
+        // measured 0.0492, 0.0436, 3.43, 0.509 (two shocks of p* = 1692)
+        _ => [0.1, 0.09, 7.0, 1.1],
+    }
+}
+
 /// Everything a single run needs besides its resolution.
 #[derive(Clone, Copy, Debug)]
 struct Settings {
@@ -320,9 +342,9 @@ fn run_tube(
             });
         }
     };
-    let (mass0, momentum0, energy0) = {
+    let (momentum0, energy0) = {
         let p = sim.particles();
-        (p.total_mass(), p.total_momentum()[0], p.total_energy())
+        (p.total_momentum()[0], p.total_energy())
     };
     let momentum_scale: f64 = {
         let p = sim.particles();
@@ -335,18 +357,15 @@ fn run_tube(
     let p = sim.particles();
     let n = p.n_real();
     let mut metrics = BTreeMap::new();
-    metrics.insert(
-        "mass_relative_change".into(),
-        (p.total_mass() - mass0).abs() / mass0,
-    );
     let momentum_residual =
         (p.total_momentum()[0] - momentum0 - sim.wall_impulse()[0]).abs() / momentum_scale;
     metrics.insert("momentum_balance_residual".into(), momentum_residual);
-    // Round-off bound: each step sums n pair-force contributions per particle, each with
-    // relative error ≤ ε, and the steps accumulate: steps · n · ε relative to Σ m (|v| + c).
+    // Pair forces are antisymmetric, so only round-off changes the momentum: each step adds an
+    // error of about ε relative to Σ m (|v| + c), of random sign, and these add up as a random
+    // walk, √steps · ε (measured up to 1.5 times that over Toro 1–5); ten times it is the limit.
     metrics.insert(
         "momentum_round_off_bound".into(),
-        sim.steps() as f64 * n as f64 * f64::EPSILON,
+        10.0 * (sim.steps() as f64).sqrt() * f64::EPSILON,
     );
     metrics.insert(
         "energy_relative_error".into(),
@@ -479,70 +498,81 @@ pub fn run(
         completed as f64,
         tubes.len() as f64,
     ));
+    let limits = l1_limits(s.case.test);
     if tubes.len() >= 2 {
-        // errors fall with resolution: a positive observed order of L1(ρ)
-        let min_order = if is_sod { 0.5 } else { 0.0 };
-        checks.push(Check::at_least(
-            "observed_order_l1_rho",
-            order.get("l1_rho").copied().unwrap_or(f64::NAN),
-            min_order,
-        ));
+        // first-order schemes at shocks and contacts: every field's L1 error falls at least as
+        // h^0.5 (measured orders 0.7–1.1)
+        for f in FIELDS {
+            if s.case.test == 2 && f == "u" {
+                // Toro 2's near-vacuum centre: a few particles, each spread over a large volume,
+                // carry a velocity set by pressure gradients of order 1e-3; the volume-weighted
+                // L1(u) is theirs and moves with each one (0.0095, 0.0048, 0.0064, 0.0038 at
+                // 100–800 left particles). Its limit below still holds.
+                continue;
+            }
+            checks.push(Check::at_least(
+                format!("observed_order_l1_{f}"),
+                order.get(&format!("l1_{f}")).copied().unwrap_or(f64::NAN),
+                0.5,
+            ));
+        }
     }
     let mut runs: Vec<Run> = tubes.iter().map(|t| t.run.clone()).collect();
+    let fine = &tubes[finest].run;
+    let n_fine = resolutions[finest];
+    // The limits hold at LIMIT_RESOLUTION left particles and finer; a coarser run's errors grow
+    // at first order, and its limit with them.
+    let coarseness = (LIMIT_RESOLUTION as f64 / n_fine as f64).max(1.0);
+    for (f, limit) in FIELDS.iter().zip(limits) {
+        checks.push(Check::at_most(
+            format!("l1_{f}_at_n_left_{n_fine}"),
+            fine.errors[&format!("l1_{f}")],
+            limit * coarseness,
+        ));
+    }
+    for t in &tubes {
+        let m = &t.run.metrics;
+        if t.run.failure.is_some() {
+            continue;
+        }
+        let label = t.run.label.replace(" = ", "_");
+        checks.push(Check::at_most(
+            format!("momentum_balance_residual_{label}"),
+            m["momentum_balance_residual"],
+            m["momentum_round_off_bound"],
+        ));
+        // measured ≤ 9.5e-6 over the five tests at 100–800 left particles
+        checks.push(Check::at_most(
+            format!("energy_relative_error_{label}"),
+            m["energy_relative_error"],
+            5e-5,
+        ));
+        checks.push(Check::at_least(
+            format!("min_density_{label}"),
+            m["min_density"],
+            f64::MIN_POSITIVE,
+        ));
+        checks.push(Check::at_least(
+            format!("min_pressure_{label}"),
+            m["min_pressure"],
+            0.0,
+        ));
+    }
+    if s.case.left.u == 0.0 && s.case.right.u == 0.0 {
+        // Walls at rest that no wave reaches by t_end feel the initial pressures throughout,
+        // so the impulse they deliver is exactly (p_L − p_R)·t_end. The SPH wall pressure
+        // differs from p by the kernel-sum error of the initial lattice (~1e-3 at η = 2): a
+        // 1 % limit leaves a factor of ten.
+        let exact = (s.case.left.p - s.case.right.p) * s.t_end;
+        let impulse = fine.metrics["wall_impulse"];
+        checks.push(Check::at_most(
+            "wall_impulse_relative_error",
+            ((impulse - exact) / exact).abs(),
+            1e-2,
+        ));
+    }
     if is_sod {
-        let fine = &tubes[finest].run;
-        let n_fine = resolutions[finest];
-        // Limit from the issue: 6e-3 at 400 left particles; at a finer resolution the error is
-        // smaller still, so the same limit holds for the finest run.
-        checks.push(Check::at_most(
-            format!("l1_rho_at_n_left_{n_fine}"),
-            fine.errors["l1_rho"],
-            6e-3,
-        ));
-        for t in &tubes {
-            let m = &t.run.metrics;
-            let label = t.run.label.replace(" = ", "_");
-            // masses never change; the sum is re-ordered by the locality sort: n·ε bounds that
-            checks.push(Check::at_most(
-                format!("mass_relative_change_{label}"),
-                m["mass_relative_change"],
-                t.run.n_particles as f64 * f64::EPSILON,
-            ));
-            checks.push(Check::at_most(
-                format!("momentum_balance_residual_{label}"),
-                m["momentum_balance_residual"],
-                m["momentum_round_off_bound"],
-            ));
-            checks.push(Check::at_least(
-                format!("min_density_{label}"),
-                m["min_density"],
-                f64::MIN_POSITIVE,
-            ));
-            checks.push(Check::at_least(
-                format!("min_pressure_{label}"),
-                m["min_pressure"],
-                0.0,
-            ));
-        }
-        if s.case.left.u == 0.0 && s.case.right.u == 0.0 {
-            // Walls at rest that no wave reaches by t_end feel the initial pressures throughout,
-            // so the impulse they deliver is exactly (p_L − p_R)·t_end. The SPH wall pressure
-            // differs from p by the kernel-sum error of the initial lattice (~1e-3 at η = 2):
-            // a 1 % limit leaves a factor of ten.
-            let exact = (s.case.left.p - s.case.right.p) * s.t_end;
-            let impulse = fine.metrics["wall_impulse"];
-            checks.push(Check::at_most(
-                "wall_impulse_relative_error",
-                ((impulse - exact) / exact).abs(),
-                1e-2,
-            ));
-        }
         let energy = fine.metrics["energy_relative_error"];
-        checks.push(Check::at_most(
-            format!("energy_relative_error_n_left_{n_fine}"),
-            energy,
-            1e-4,
-        ));
         let half_cfl = 0.5 * s.config.cfl;
         // skipped where C is already at the bottom of its range and cannot be halved
         if half_cfl >= blastsph_solver::step::CFL_RANGE.0 {
