@@ -41,9 +41,9 @@ fn kernel_interpolation_passes_its_checks() {
     assert_eq!(out.record.runs.len(), 4, "one run per smoothing length");
 }
 
-/// Sod at quick level: L1(ρ) ≤ 6e-3 at 400 left particles, observed order ≥ 0.5, mass exact,
+/// Sod at quick level: L1(ρ) ≤ 6e-3 at 400 left particles, observed order ≥ 0.5 per field,
 /// momentum balanced to round-off against the wall impulse (itself equal to (p_L − p_R)·t),
-/// energy within 1e-4 and shrinking with Δt, ρ and p positive.
+/// energy within 5e-5 and shrinking with Δt, ρ and p positive.
 #[test]
 fn sod_passes_its_quick_checks() {
     let out = run("sod", &[]);
@@ -57,13 +57,13 @@ fn sod_passes_its_quick_checks() {
         .is_some_and(|c| c.limit == 0.5));
     assert!(r
         .check("energy_relative_error_n_left_400")
-        .is_some_and(|c| c.limit == 1e-4));
+        .is_some_and(|c| c.limit == 5e-5));
     assert!(r
         .check("energy_error_at_half_cfl_over_energy_error")
         .is_some());
     for label in ["n_left_200", "n_left_400"] {
         for what in [
-            "mass_relative_change",
+            "energy_relative_error",
             "momentum_balance_residual",
             "min_density",
             "min_pressure",
@@ -81,12 +81,27 @@ fn sod_passes_its_quick_checks() {
     assert!(rho.len() > 400);
 }
 
-/// Sod is Test 1 of Toro's table: both names run the same physics.
+/// Toro's Tests 2–5 at quick level: each field's L1 error within its limit and falling at
+/// order ≥ 0.5 (Test 2's velocity excepted, see the problem), energy and momentum conserved,
+/// positivity, and the wall impulse where the walls see the initial pressures.
 #[test]
-fn sod_and_toro_1_agree() {
-    let sod = run("sod", &[("n_left", "100")]);
-    let toro = run("toro-1", &[("n_left", "100")]);
-    assert_eq!(sod.profile, toro.profile);
+fn toro_tests_pass_their_quick_checks() {
+    for name in ["toro-2", "toro-3", "toro-4", "toro-5"] {
+        let out = run(name, &[]);
+        assert_all_checks_pass(&out);
+        let r = &out.record;
+        for f in ["rho", "u", "p", "e"] {
+            assert!(
+                r.check(&format!("l1_{f}_at_n_left_400")).is_some(),
+                "{name}: l1_{f}"
+            );
+        }
+        assert_eq!(
+            r.check("wall_impulse_relative_error").is_some(),
+            name == "toro-3" || name == "toro-4",
+            "{name}"
+        );
+    }
 }
 
 /// The Sedov blasts at quick level: shock radius within 1 % (1D radial) or 4 % (2D, 3D) of the
@@ -186,17 +201,24 @@ fn density_ratio_tube_passes_its_quick_checks() {
     assert_eq!(interface_checks, out.record.runs.len());
 }
 
-/// The TNT slab at quick level: the detonation front runs within 2 % of the JWL's D_CJ, the
-/// peak pressure gets closer to p_CJ and the pressure profile closer to the CJ + Taylor-wave
-/// solution as the spacing halves, and the products expand into the air without blow-up.
+/// The TNT slab at quick level: the pressure profile within the CJ + Taylor-wave solution's
+/// limits and closer to it as the spacing halves, the products at rest behind the wave at their
+/// exact pressure, energy conserved, the peak pressure closer to p_CJ, and the products expand
+/// into the air without blow-up.
 #[test]
 fn tnt_slab_passes_its_quick_checks() {
     let out = run("tnt-slab", &[]);
     assert_all_checks_pass(&out);
     let r = &out.record;
-    assert!(r
-        .check("front_speed_relative")
-        .is_some_and(|c| c.limit == 0.02));
+    for name in [
+        "l1_p_over_p_cj_n_200",
+        "plateau_pressure_relative_n_200",
+        "energy_relative_change_n_200",
+        "observed_order_l1_p",
+    ] {
+        assert!(r.check(name).is_some(), "missing {name}");
+    }
+    assert!(r.check("front_speed_relative").is_none());
     assert!(r
         .check("peak_pressure_error_finest_over_coarsest")
         .is_some());

@@ -37,6 +37,8 @@ pub const NAME: &str = "tnt-slab";
 const FIRST_LOOK: f64 = 0.4;
 const SECOND_LOOK: f64 = 0.9;
 const END: f64 = 1.3;
+/// The resolution (particles across the slab) at which the error limits hold.
+const LIMIT_RESOLUTION: usize = 200;
 
 pub fn info() -> super::ProblemInfo {
     super::ProblemInfo {
@@ -90,6 +92,13 @@ impl Detonation {
             rho0: jwl.rho0,
             fan,
         }
+    }
+
+    /// The products at rest between the wall and the tail of the Taylor wave: the tail's
+    /// speed x/t (its sound speed) and their pressure.
+    fn rest(&self) -> (f64, f64) {
+        let tail = self.fan[self.fan.len() - 1];
+        (tail.0, tail.3)
     }
 
     /// (ρ, u, p) at x, t (x ≥ 0, before the front reaches the air).
@@ -300,9 +309,11 @@ fn run_one(
         crossing(&looks[0], 0.5 * p_cj),
         crossing(&looks[1], 0.5 * p_cj),
     );
+    // reported only: the programmed burn lights each particle at the time D_CJ sets, so the
+    // front runs at D_CJ by construction
     let speed = (second - first) / ((SECOND_LOOK - FIRST_LOOK) * transit);
     m.insert("front_speed".into(), speed);
-    run.errors.insert(
+    m.insert(
         "front_speed_relative".into(),
         (speed / s.detonation.speed - 1.0).abs(),
     );
@@ -325,6 +336,20 @@ fn run_one(
     run.errors.insert(
         "l1_p_over_p_cj".into(),
         l1_error(&pressure, &exact, &volume) * volume.iter().sum::<f64>() / s.length,
+    );
+    // the products at rest behind the Taylor wave, 0 ≤ x ≤ c_rest t: their pressure, averaged
+    // over the middle of that region (clear of the wall's kernel and of the fan's tail)
+    let (rest_speed, rest_pressure) = s.detonation.rest();
+    let plateau: Vec<f64> = in_charge
+        .iter()
+        .filter(|q| q.0 > 0.2 * rest_speed * t2 && q.0 < 0.8 * rest_speed * t2)
+        .map(|q| q.3)
+        .collect();
+    m.insert("plateau_particles".into(), plateau.len() as f64);
+    m.insert("exact_plateau_pressure".into(), rest_pressure);
+    run.errors.insert(
+        "plateau_pressure_relative".into(),
+        (plateau.iter().sum::<f64>() / plateau.len() as f64 / rest_pressure - 1.0).abs(),
     );
     // after the break-out: the air shock, where the pressure crosses ten atmospheres (the air's
     // open far end, at one atmosphere, expands on its own and stays below that)
@@ -374,12 +399,36 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
             .copied()
             .unwrap_or(f64::NAN)
     };
-    // the limit: the front within 2 % of D_CJ
-    checks.push(Check::at_most(
-        "front_speed_relative",
-        get(finest, "front_speed_relative"),
-        0.02,
-    ));
+    let fine = &measured[finest].run;
+    if fine.failure.is_none() {
+        let n_fine = order_of(finest);
+        // Limits at LIMIT_RESOLUTION particles and finer (a coarser run's errors grow at first
+        // order, its limits with them): about twice the values measured there. L1(p)/p_CJ:
+        // 3.1e-3, 1.6e-3, 8.7e-4, 5.3e-4 at 100–800 particles. The plateau: 0.04 %, 0.43 %,
+        // 0.49 %, 0.57 %, a bias that does not shrink with h: the burn releases its energy
+        // along the viscous ramp rather than on the Rayleigh line, so the products leave the
+        // front on a slightly different isentrope than the CJ point's.
+        let coarseness = (LIMIT_RESOLUTION as f64 / n_fine as f64).max(1.0);
+        checks.push(Check::at_most(
+            format!("l1_p_over_p_cj_n_{n_fine}"),
+            get(finest, "l1_p_over_p_cj"),
+            3.5e-3 * coarseness,
+        ));
+        checks.push(Check::at_most(
+            format!("plateau_pressure_relative_n_{n_fine}"),
+            get(finest, "plateau_pressure_relative"),
+            1e-2 * coarseness,
+        ));
+    }
+    for m in measured.iter().filter(|m| m.run.failure.is_none()) {
+        // the chemical energy is in e from the start and a wall does no work, so
+        // Σ m (v²/2 + e) is conserved; measured 9e-5–1.1e-4 at 100–800 particles
+        checks.push(Check::at_most(
+            format!("energy_relative_change_{}", m.run.label.replace(" = ", "_")),
+            m.run.metrics["energy_relative_change"],
+            1e-3,
+        ));
+    }
     let order = observed_orders(measured.iter().map(|m| &m.run), &["l1_p_over_p_cj"]);
     if measured.len() >= 2 {
         // the peak approaches p_CJ as the ramp (2h) and the viscous spread shrink with h
@@ -389,10 +438,11 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
                 / (get(coarsest, "peak_pressure_over_p_cj") - 1.0).abs(),
             1.0,
         ));
+        // first order at the front (measured 0.86)
         checks.push(Check::at_least(
             "observed_order_l1_p",
             order.get("l1_p_over_p_cj").copied().unwrap_or(f64::NAN),
-            0.0,
+            0.5,
         ));
     }
     let mut runs: Vec<Run> = measured.iter().map(|m| m.run.clone()).collect();
