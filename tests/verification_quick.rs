@@ -56,14 +56,14 @@ fn sod_passes_its_quick_checks() {
         .check("observed_order_l1_rho")
         .is_some_and(|c| c.limit == 0.5));
     assert!(r
-        .check("energy_relative_error_n_left_400")
+        .check("energy_relative_change_n_left_400")
         .is_some_and(|c| c.limit == 5e-5));
     assert!(r
         .check("energy_error_at_half_cfl_over_energy_error")
         .is_some());
     for label in ["n_left_200", "n_left_400"] {
         for what in [
-            "energy_relative_error",
+            "energy_relative_change",
             "momentum_balance_residual",
             "min_density",
             "min_pressure",

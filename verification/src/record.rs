@@ -146,6 +146,71 @@ impl Run {
     }
 }
 
+/// The books of a run's conserved quantities: taken at the start, closed at the end.
+///
+/// Momentum changes only by what walls deliver, since pair forces are antisymmetric; what is
+/// left is round-off, an error of about ε relative to Σ m (|v| + c) per step, of random sign,
+/// which adds up as a random walk: √steps · ε. Energy, with the chemical energy of an
+/// explosive counted in e from the start, is conserved to the time integration's error.
+#[derive(Clone, Copy, Debug)]
+pub struct Conservation<const D: usize> {
+    momentum: blastsph_solver::Vector<D>,
+    momentum_scale: f64,
+    energy: f64,
+}
+
+impl<const D: usize> Conservation<D> {
+    pub fn open(sim: &blastsph_solver::Simulation<D>) -> Self {
+        let p = sim.particles();
+        let momentum_scale = (0..p.n_real())
+            .map(|i| p.mass[i] * (p.velocity[i].norm() + p.sound_speed[i]))
+            .sum();
+        Self {
+            momentum: p.total_momentum() - sim.wall_impulse(),
+            momentum_scale,
+            energy: p.total_energy(),
+        }
+    }
+
+    /// Books into `metrics`: `energy_relative_change`, `momentum_balance_residual` (the change
+    /// of momentum less the walls' impulse, over Σ m (|v| + c) at the start) and
+    /// `momentum_round_off_bound`, ten times the random walk √steps · ε.
+    pub fn close(&self, sim: &blastsph_solver::Simulation<D>, metrics: &mut BTreeMap<String, f64>) {
+        let p = sim.particles();
+        metrics.insert(
+            "energy_relative_change".into(),
+            ((p.total_energy() - self.energy) / self.energy).abs(),
+        );
+        metrics.insert(
+            "momentum_balance_residual".into(),
+            (p.total_momentum() - sim.wall_impulse() - self.momentum).norm() / self.momentum_scale,
+        );
+        metrics.insert(
+            "momentum_round_off_bound".into(),
+            10.0 * (sim.steps() as f64).sqrt() * f64::EPSILON,
+        );
+    }
+}
+
+/// The two conservation checks of a run booked by [`Conservation::close`]: momentum within its
+/// round-off bound, energy within `energy_limit`.
+pub fn conservation_checks(run: &Run, energy_limit: f64) -> [Check; 2] {
+    let label = run.label.replace(" = ", "_").replace(' ', "_");
+    let metric = |key: &str| run.metrics.get(key).copied().unwrap_or(f64::NAN);
+    [
+        Check::at_most(
+            format!("momentum_balance_residual_{label}"),
+            metric("momentum_balance_residual"),
+            metric("momentum_round_off_bound"),
+        ),
+        Check::at_most(
+            format!("energy_relative_change_{label}"),
+            metric("energy_relative_change"),
+            energy_limit,
+        ),
+    ]
+}
+
 /// The observed order of each named error over `runs` (least squares in log error against log
 /// spacing; errors a run lacks count as missing), for the keys where there are two usable runs.
 pub fn observed_orders<'a>(

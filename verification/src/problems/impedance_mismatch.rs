@@ -20,7 +20,9 @@ use crate::impedance::{self, InterfaceSolution, MaterialState, Wave, WaveKind, W
 use crate::materials::Library;
 use crate::norms::l1_error;
 use crate::params::{ParamSpec, Params};
-use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
+use crate::record::{
+    conservation_checks, observed_orders, Check, Conservation, ProblemOutput, Record, Run, Table,
+};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -366,8 +368,7 @@ fn run_one(
             });
         }
     };
-    let energy0 = sim.particles().total_energy();
-    let momentum0 = sim.particles().total_momentum()[0];
+    let books = Conservation::open(&sim);
     let mut outcome = sim.run_until(t_mid, |t| progress(t / t_end));
     let mid = snapshot(&sim);
     if outcome.is_ok() {
@@ -384,17 +385,8 @@ fn run_one(
         });
     }
     let end = snapshot(&sim);
-    let p = sim.particles();
+    books.close(&sim, &mut run.metrics);
     let m = &mut run.metrics;
-    let _ = &p;
-    m.insert(
-        "energy_relative_change".into(),
-        (p.total_energy() - energy0).abs() / energy0,
-    );
-    m.insert(
-        "momentum_relative_change".into(),
-        (p.total_momentum()[0] - momentum0).abs() / momentum0,
-    );
     let s_int = &exact.interface;
     let tau = t_end - exact.t_hit;
     // interface: between the last A particle and the first B particle
@@ -536,6 +528,11 @@ pub fn run(
         "transmitted_shock_speed_relative",
     ] {
         checks.push(Check::at_most(key, error(key), 0.03));
+    }
+    for m in measured.iter().filter(|m| m.run.failure.is_none()) {
+        // open ends: momentum to round-off; energy measured 2.3e-5 at 100 per cm, falling
+        // at first order
+        checks.extend(conservation_checks(&m.run, 2.5e-4));
     }
     for m in &measured {
         let label = m.run.label.replace(' ', "_");

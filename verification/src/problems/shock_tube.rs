@@ -11,7 +11,9 @@
 
 use crate::norms::{l1_error, observed_order};
 use crate::params::{ParamSpec, Params};
-use crate::record::{phase_seconds, Check, ProblemOutput, Record, Run, Table};
+use crate::record::{
+    conservation_checks, phase_seconds, Check, Conservation, ProblemOutput, Record, Run, Table,
+};
 use crate::riemann::{self, GasState, RiemannSolution};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
@@ -342,35 +344,13 @@ fn run_tube(
             });
         }
     };
-    let (momentum0, energy0) = {
-        let p = sim.particles();
-        (p.total_momentum()[0], p.total_energy())
-    };
-    let momentum_scale: f64 = {
-        let p = sim.particles();
-        (0..p.n_real())
-            .map(|i| p.mass[i] * (p.velocity[i].norm() + p.sound_speed[i]))
-            .sum()
-    };
+    let books = Conservation::open(&sim);
     let outcome = sim.run_until(s.t_end, |t| progress(t / s.t_end));
     let wall_s = start.elapsed().as_secs_f64();
     let p = sim.particles();
     let n = p.n_real();
     let mut metrics = BTreeMap::new();
-    let momentum_residual =
-        (p.total_momentum()[0] - momentum0 - sim.wall_impulse()[0]).abs() / momentum_scale;
-    metrics.insert("momentum_balance_residual".into(), momentum_residual);
-    // Pair forces are antisymmetric, so only round-off changes the momentum: each step adds an
-    // error of about ε relative to Σ m (|v| + c), of random sign, and these add up as a random
-    // walk, √steps · ε (measured up to 1.5 times that over Toro 1–5); ten times it is the limit.
-    metrics.insert(
-        "momentum_round_off_bound".into(),
-        10.0 * (sim.steps() as f64).sqrt() * f64::EPSILON,
-    );
-    metrics.insert(
-        "energy_relative_error".into(),
-        (p.total_energy() - energy0).abs() / energy0,
-    );
+    books.close(&sim, &mut metrics);
     metrics.insert(
         "min_density".into(),
         p.density[..n].iter().cloned().fold(f64::INFINITY, f64::min),
@@ -535,18 +515,9 @@ pub fn run(
         if t.run.failure.is_some() {
             continue;
         }
+        // energy: measured ≤ 9.5e-6 over the five tests at 100–800 left particles
+        checks.extend(conservation_checks(&t.run, 5e-5));
         let label = t.run.label.replace(" = ", "_");
-        checks.push(Check::at_most(
-            format!("momentum_balance_residual_{label}"),
-            m["momentum_balance_residual"],
-            m["momentum_round_off_bound"],
-        ));
-        // measured ≤ 9.5e-6 over the five tests at 100–800 left particles
-        checks.push(Check::at_most(
-            format!("energy_relative_error_{label}"),
-            m["energy_relative_error"],
-            5e-5,
-        ));
         checks.push(Check::at_least(
             format!("min_density_{label}"),
             m["min_density"],
@@ -572,7 +543,7 @@ pub fn run(
         ));
     }
     if is_sod {
-        let energy = fine.metrics["energy_relative_error"];
+        let energy = fine.metrics["energy_relative_change"];
         let half_cfl = 0.5 * s.config.cfl;
         // skipped where C is already at the bottom of its range and cannot be halved
         if half_cfl >= blastsph_solver::step::CFL_RANGE.0 {
@@ -591,7 +562,7 @@ pub fn run(
                 "energy_error_at_half_cfl_over_energy_error",
                 half_run
                     .metrics
-                    .get("energy_relative_error")
+                    .get("energy_relative_change")
                     .copied()
                     .unwrap_or(f64::NAN)
                     / energy,
