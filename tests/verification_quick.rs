@@ -21,16 +21,14 @@ fn assert_all_checks_pass(output: &blastsph_verification::record::ProblemOutput)
     assert!(output.record.pass);
 }
 
-/// The seed thesis' example: Shepard exact for constants, CSPM exact for linear derivatives,
-/// standard SPH good inside and deficient at the ends (limits justified in the problem file).
+/// The seed thesis' example: standard SPH good inside and deficient at the ends (limits
+/// justified in the problem file); Shepard and CSPM reported.
 #[test]
 fn kernel_interpolation_passes_its_checks() {
     let out = run("kernel-interpolation", &[]);
     assert_all_checks_pass(&out);
     let names: Vec<&str> = out.record.checks.iter().map(|c| c.name.as_str()).collect();
     for expected in [
-        "shepard_max_deviation_all_h",
-        "cspm_derivative_max_error_h>=0.75",
         "standard_h1.55_deviation_at_x4",
         "standard_h1.55_deviation_at_x5",
         "standard_h1.55_deficit_at_x1",
@@ -240,7 +238,7 @@ fn elastic_wave_passes_its_quick_checks() {
 
 /// The copper Taylor bar (quarter model) at quick level: final length within 4 % of 21.42 mm
 /// and footprint radius within 8 % of 7.12 mm at the finest quick resolution, kinetic +
-/// internal energy within 2 % of the impact energy, no particle outside its yield surface.
+/// internal energy within 1 % of the impact energy and the itemised balance within 2 %.
 #[test]
 fn taylor_bar_3d_passes_its_quick_checks() {
     let out = run("taylor-bar-3d", &[]);
@@ -254,7 +252,8 @@ fn taylor_bar_3d_passes_its_quick_checks() {
         .is_some_and(|c| c.limit == 0.08));
 }
 
-/// The same bar as rings in (r, z) about its axis: the same limits.
+/// The same bar as rings in (r, z) about its axis: the same length and footprint limits, the
+/// energy balances within 5e-4 and 5e-5.
 #[test]
 fn taylor_bar_axisymmetric_passes_its_quick_checks() {
     let out = run("taylor-bar-axisymmetric", &[]);

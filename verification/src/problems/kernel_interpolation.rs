@@ -2,11 +2,12 @@
 //! X = {1, …, 8} (Δx = 1) with the cubic spline at h = 0.3, 0.75, 1.55, 2.6, by standard SPH
 //! and Shepard-corrected; and the first derivative of y = 2x + 1 by standard SPH and by CSPM.
 //!
-//! Facts checked: Shepard reproduces a constant exactly (1e-12 is round-off on sums of eight
-//! O(1) terms); CSPM reproduces the derivative of a linear field exactly, at the ends too; the
-//! standard interpolant is within 0.01 of 1 where no neighbour is missing (x = 4, 5 at
-//! h = 1.55, where the discrete sum of a cubic spline with h/Δx = 1.55 deviates ~1e-3 from
-//! unity) and loses more than 0.2 at the ends, where half the kernel falls outside the data.
+//! Facts checked: the standard interpolant is within 0.01 of 1 where no neighbour is missing
+//! (x = 4, 5 at h = 1.55, where the discrete sum of a cubic spline with h/Δx = 1.55 deviates
+//! ~1e-3 from unity) and loses more than 0.2 at the ends, where half the kernel falls outside
+//! the data. Shepard's and CSPM's errors are reported: both reproduce their fields by
+//! construction (Σ W u / Σ W with u = 1; a gradient corrected by the inverse of the kernel
+//! moment), which `solver/tests/operators.rs` tests as wiring, not as verification.
 
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, ProblemOutput, Record, Run, Table};
@@ -21,8 +22,6 @@ use std::collections::BTreeMap;
 pub const NAME: &str = "kernel-interpolation";
 const SMOOTHING_LENGTHS: [f64; 4] = [0.3, 0.75, 1.55, 2.6];
 const EVALUATION_POINTS: usize = 20;
-/// Round-off bound for sums of eight O(1) terms and a 1×1 solve.
-const ROUND_OFF: f64 = 1e-12;
 
 pub fn info() -> super::ProblemInfo {
     super::ProblemInfo {
@@ -65,7 +64,6 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
         panel("Shepard corrected: y = 1", "u(x)"),
         panel("dy/dx of y = 2x + 1 at the data points", "du/dx"),
     ];
-    let (mut shepard_worst, mut cspm_worst) = (0.0f64, 0.0f64);
     for h in SMOOTHING_LENGTHS {
         let start = std::time::Instant::now();
         // evaluation at the 20 points and at the 8 data points
@@ -91,33 +89,19 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             .map(|i| cspm_gradient(&kernel, h, &line, i).map(|g| g[0]))
             .collect();
         let max_dev = |v: &[f64]| v.iter().map(|u| (u - 1.0).abs()).fold(0.0, f64::max);
-        let shepard_dev = shepard
-            .iter()
-            .map(|u| (u - 1.0).abs())
-            .fold(
+        // NaN where an operator is undefined (no neighbour within the support)
+        let worst = |v: &mut dyn Iterator<Item = f64>| {
+            v.fold(
                 0.0,
                 |a: f64, d| if d.is_nan() { f64::NAN } else { a.max(d) },
-            );
-        shepard_worst = if shepard_dev.is_nan() {
-            f64::NAN
-        } else {
-            shepard_worst.max(shepard_dev)
+            )
         };
-        let cspm_err = cspm_derivative
-            .iter()
-            .map(|d| d.map_or(f64::NAN, |d| (d - 2.0).abs()))
-            .fold(
-                0.0,
-                |a: f64, d| if d.is_nan() { f64::NAN } else { a.max(d) },
-            );
-        // with h = 0.3 the support (0.6) holds no other data point: CSPM is undefined there
-        if h > 0.5 {
-            cspm_worst = if cspm_err.is_nan() {
-                f64::NAN
-            } else {
-                cspm_worst.max(cspm_err)
-            };
-        }
+        let shepard_dev = worst(&mut shepard.iter().map(|u| (u - 1.0).abs()));
+        let cspm_err = worst(
+            &mut cspm_derivative
+                .iter()
+                .map(|d| d.map_or(f64::NAN, |d| (d - 2.0).abs())),
+        );
         let mut errors = BTreeMap::new();
         errors.insert("standard_max_deviation".into(), max_dev(&standard));
         errors.insert("shepard_max_deviation".into(), shepard_dev);
@@ -201,14 +185,6 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             });
         }
     }
-    checks.insert(
-        0,
-        Check::at_most("shepard_max_deviation_all_h", shepard_worst, ROUND_OFF),
-    );
-    checks.insert(
-        1,
-        Check::at_most("cspm_derivative_max_error_h>=0.75", cspm_worst, ROUND_OFF),
-    );
     let rows = (0..EVALUATION_POINTS)
         .map(|k| table_columns.iter().map(|c| c[k]).collect())
         .collect();

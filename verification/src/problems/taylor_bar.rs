@@ -521,24 +521,28 @@ pub fn run(
             f64::from(m.run.failure.is_none()),
             1.0,
         ));
-        // the 2 % for both balances: kinetic + internal is conserved to the time
-        // integration's error (1e-5 measured); the itemised terms add the hypoelastic shear
-        // energy's and the return map's first-order errors
-        for balance in [
+        // Kinetic + internal is conserved to the time integration's error; the itemised
+        // terms add the hypoelastic shear energy's and the return map's first-order errors.
+        // About ten times the largest measured at 4–24 particles across: axisymmetric
+        // 4.6e-5 and 2.4e-6, the 3D total-Lagrangian quarter 9.4e-4 and 2.0e-3 (its
+        // hourglass heat is booked from bond stretches between steps).
+        let limits = match model {
+            Model::Axisymmetric => [5e-4, 5e-5],
+            Model::Quarter => [1e-2, 2e-2],
+        };
+        for (balance, limit) in [
             "energy_balance_relative",
             "itemised_energy_balance_relative",
-        ] {
+        ]
+        .into_iter()
+        .zip(limits)
+        {
             checks.push(Check::at_most(
                 format!("{balance}_{label}"),
                 metric(&m.run, balance),
-                0.02,
+                limit,
             ));
         }
-        checks.push(Check::at_most(
-            format!("max_yield_excess_{label}"),
-            metric(&m.run, "max_yield_excess"),
-            1e-6,
-        ));
     }
     let order = observed_orders(
         measured.iter().map(|m| &m.run),
