@@ -129,14 +129,15 @@ mod tests {
         Jwl::new(1630.0, 371.2e9, 3.231e9, 4.15, 0.95, 0.30).unwrap()
     }
 
-    /// The parameters imply a CJ state within 5 % of the handbook's 21 GPa and 6930 m/s (the
-    /// fit is made to cylinder tests, not to the CJ point, so a few per cent is its accuracy;
-    /// measured: 21.00 GPa, 6929 m/s at V = 0.732).
+    /// The parameters imply the handbook's CJ state, 21 GPa and 6930 m/s: the LLNL fit puts
+    /// the products' isentrope through that point (measured: 21.00 GPa, 6929 m/s at
+    /// V = 0.732). Limits: 1 % on p (the handbook's two digits) and
+    /// 0.2 % on D, about ten times the measured.
     #[test]
     fn tnt_chapman_jouguet_state_matches_the_handbook() {
         let (d, p, _) = tnt().chapman_jouguet(7.0e9);
-        assert!((p / 21.0e9 - 1.0).abs() < 0.05, "p_CJ = {p:e}");
-        assert!((d / 6930.0 - 1.0).abs() < 0.05, "D_CJ = {d}");
+        assert!((p / 21.0e9 - 1.0).abs() < 1e-2, "p_CJ = {p:e}");
+        assert!((d / 6930.0 - 1.0).abs() < 2e-3, "D_CJ = {d}");
     }
 
     #[test]
