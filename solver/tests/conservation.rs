@@ -211,6 +211,59 @@ fn time_step_collapse_names_the_limiting_particle() {
     );
 }
 
+/// Sod's tube at Courant number 2 (four times the largest allowed C = 0.5): the shocked
+/// particles move several spacings per step and overtake one another, and the run must stop
+/// with a diagnosis that names the particle, its material and the step, not run on with NaNs.
+#[test]
+fn courant_number_2_stops_with_a_diagnosis_naming_the_particle() {
+    let gas = IdealGas::new(1.4).unwrap();
+    let (n_left, dx) = (100, 0.005);
+    let init: Vec<ParticleInit<1>> = (0..n_left + n_left / 8)
+        .map(|k| {
+            let (x, rho, p) = if k < n_left {
+                ((k as f64 + 0.5) * dx, 1.0, 1.0)
+            } else {
+                (0.5 + ((k - n_left) as f64 + 0.5) * 8.0 * dx, 0.125, 0.1)
+            };
+            ParticleInit {
+                position: Vector::<1>::new(x),
+                velocity: Vector::<1>::zeros(),
+                mass: dx,
+                smoothing_length: 2.0 * dx * (1.0 / rho),
+                density: rho,
+                internal_energy: gas.internal_energy(rho, p),
+                material: 0,
+            }
+        })
+        .collect();
+    let domain = Domain::new(
+        Vector::<1>::new(0.0),
+        Vector::<1>::new(1.0),
+        [Boundary::Wall],
+    );
+    let config = SimulationConfig::default();
+    let mut sim = Simulation::new(&init, vec![Material::new("air", gas)], domain, config).unwrap();
+    let mut outcome = Ok(());
+    for _ in 0..1000 {
+        outcome = sim
+            .stable_time_step()
+            .and_then(|dt| sim.step(2.0 / config.cfl * dt));
+        if outcome.is_err() {
+            break;
+        }
+    }
+    let diagnosis = match outcome {
+        Err(e @ (SolverError::BlowUp { .. } | SolverError::TimeStepCollapse { .. })) => {
+            e.to_string()
+        }
+        other => panic!("Courant 2 ran 1000 steps without a diagnosis: {other:?}"),
+    };
+    assert!(
+        diagnosis.contains("particle") && diagnosis.contains("air") && diagnosis.contains("step"),
+        "{diagnosis}"
+    );
+}
+
 #[test]
 fn bad_configuration_names_the_field_and_range() {
     let gas = IdealGas::new(1.4).unwrap();
