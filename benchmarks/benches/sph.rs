@@ -1,7 +1,7 @@
 //! `cargo bench`: kernel evaluation, neighbour search (cell-grid build alone, and build plus
 //! the query of every particle; 10⁴ and 10⁵ particles, 2D and 3D, jittered lattice,
 //! h = 1.2 Δx), one full SPH step for 10⁵ particles in 3D, and a whole problem run as the
-//! issue's cost target states it: the axisymmetric Taylor bar at its coarse quick resolution
+//! cost target states it: the axisymmetric Taylor bar at its coarse quick resolution
 //! (6 rings across; the target is "well under a minute" for the quick level). Throughput is
 //! reported in elements per second: kernel evaluations, particles searched, particle updates.
 
@@ -93,8 +93,8 @@ fn whole_problems(c: &mut Criterion) {
 
 /// One full-size biaxial test as the `biaxial` problem runs it: 1700 grains at 10 %
 /// saturation and σ3 = 1 kPa, prepared, wetted, wrapped, consolidated and loaded to 10 % axial
-/// strain at the problem's quasi-static platen speed (the target: under two minutes on
-/// the 2-core machine). Ten samples take over ten minutes.
+/// strain at the problem's quasi-static platen speed (the target: under two minutes on the
+/// 2-core machine). Ten samples take over ten minutes.
 fn biaxial_test(c: &mut Criterion) {
     use blastsph_verification::problems::biaxial_run;
     let mut group = c.benchmark_group("dem");

@@ -44,7 +44,7 @@
 //! of a ring are the exact local ones, also at a free surface. (G^even alone there is about
 //! 0.5, the truncated kernel's, and halved a free rim's hoop restraint and hoop stretching:
 //! the Taylor bar's outer column then ran out along the wall as a tongue one particle thick,
-//! footprint +7 % at 16 rings across, issue 4 note.) The price is that a uniform stress is at
+//! footprint +7 % at 16 rings across.) The price is that a uniform stress is at
 //! rest only to the planar sums' own accuracy, about 1 % of the hoop term with the cubic spline
 //! at η = 1.2, where G^even alone balanced it to round-off. The hoop strain rate v_r/r carries
 //! the same G_i as the hoop force, so the hoop work still cancels in the energy.

@@ -149,7 +149,7 @@ impl ViscositySwitch {
 /// conservative: R grows as a pair opens under tension, so in a flow that keeps opening and
 /// closing pairs they do net work on the motion, taken from the internal energy (booked in
 /// [`crate::step::ArtificialHeating`]; half the impact energy in the 3D Taylor bar at 5
-/// particles across, issue 4 note).
+/// particles across).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArtificialStress {
     /// ε, 0.3 in Gray, Monaghan & Swift's elastic problems.

@@ -66,7 +66,7 @@ fn column(
 /// at the axis and the last at the outer wall included, is below 1.2 % of the hoop term
 /// p/(ρ r) it must cancel. The hoop force is the exact p/(ρr) away from the axis, while the
 /// planar gradient of the ring flux 2πr p is a kernel sum of a linear field, which the cubic
-/// spline at η = 1.2 gets short by δ ≈ 1 % (the 2D elastic wave's speed bias, issue 4 note):
+/// spline at η = 1.2 gets short by δ ≈ 1 % (the 2D elastic wave's speed bias):
 /// the residual is δ of the hoop term (measured 0.92 %, 0.43 % at the first ring, where the
 /// axis factor carries part of it).
 #[test]
@@ -89,7 +89,7 @@ fn uniform_pressure_stays_at_rest() {
 /// 2G(a/3, −2a/3) on (rr, zz). From the third ring off the axis out to the interior (away from
 /// the outer wall, whose mirror cannot follow the expansion) within 2.5 %: ε̇_rr is a planar
 /// kernel-gradient sum of a linear field, which the cubic spline at η = 1.2 gets short by
-/// δ ≈ 1 % (the same bias as the 2D elastic wave's speed, issue 4 note), while the hoop rate
+/// δ ≈ 1 % (the same bias as the 2D elastic wave's speed), while the hoop rate
 /// v_r/r is exact, so Dρ/Dt and ṡ_zz are short by δ/2 and ṡ_rr = 2G(ε̇_rr − tr ε̇/3) by 2δ
 /// (measured 0.46 %, 0.46 %, 1.84 %). The first two rings
 /// carry the even axis images' kink in their hoop rate (see solver::axisymmetric), measured:

@@ -278,7 +278,7 @@ fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
     assert!((3.0..4.5).contains(&done.coordination), "{done:?}");
 }
 
-/// The friction study's expected trend (a standard DEM result, issue 5): the same sample
+/// The friction study's expected trend (a standard DEM result): the same sample
 /// prepared with more friction between grains is looser and less coordinated. Measured:
 /// μ = 0.1: porosity 0.188, coordination 3.53; μ = 1: 0.232, 3.08.
 #[test]

@@ -123,7 +123,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
                 f64::from(u8::from(monotone)),
                 1.0,
             ));
-            // the limits: Willett's fit within 3 %, the toroidal gorge form within 8 %
+            // Willett's fit within 3 %, the toroidal gorge form within 8 %
             checks.push(Check::at_most(
                 format!("willett_max_relative_error_{label}"),
                 run.errors["willett_max_relative_error"],

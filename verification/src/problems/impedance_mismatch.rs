@@ -521,7 +521,8 @@ pub fn run(
     ));
     let fine = &measured[finest].run;
     let error = |key: &str| fine.errors.get(key).copied().unwrap_or(f64::NAN);
-    // the limit: 3 % of the exact interface state and transmitted shock speed
+    // 3 % of the exact interface state and transmitted shock speed (measured at most 0.41 %
+    // at 100 per cm)
     for key in [
         "interface_pressure_relative",
         "interface_velocity_relative",

@@ -64,7 +64,7 @@ const VARIANTS: [Variant; 3] = [
         // stays small: 55 000 steps and 108 s at 200 shells against 6 000 steps and 8 s
         formulations: ("follow-density", "follow-density"),
         eta: 1.2,
-        // the limit, the same at both levels
+        // the same at both levels
         radius_limit: (0.01, 0.01),
     },
     Variant {
@@ -557,7 +557,7 @@ pub fn run(
                 0.0,
             ));
         }
-        // peak density: the floors, 70 % of (γ+1)/(γ−1)·ρ0 in 1D radial at every level,
+        // peak density floors: 70 % of (γ+1)/(γ−1)·ρ0 in 1D radial at every level,
         // 55 % (binned) in 2D/3D at full level; reported, not checked, in 2D/3D at quick level
         let peak_floor = match (v.name, level) {
             ("sedov-spherical-1d", _) => Some(0.70),

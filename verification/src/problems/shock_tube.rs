@@ -131,7 +131,7 @@ fn info(name: &'static str, summary: &'static str, case: &Case) -> super::Proble
             ParamSpec::new("alpha_u", 0.0, "artificial conductivity α_u (Price 2008)"),
             // η = 2 (8 neighbours in 1D): at η = 1.2 the discrete kernel sum is off by 0.2 % and
             // Toro 3's errors stop falling at 200 particles (L1(u) 0.26, 0.24, 0.24 for 200–800);
-            // at η = 2 Sod and Toro 3 converge at first order (measured, see the issue note)
+            // at η = 2 Sod and Toro 3 converge at first order (measured)
             ParamSpec::new("eta", 2.0, "smoothing length h = η·m/ρ"),
             ParamSpec::new(
                 "smoothing",

@@ -13,7 +13,7 @@
 //! radius (the farthest particle of the bottom layer from the axis plus half a spacing; in 3D
 //! the mean and least of the farthest per 15° sector are reported beside it), two energy
 //! balances against the initial kinetic energy: kinetic + internal (conservation), and the
-//! issue's itemised one, kinetic + elastic (shear s:s/(4Gρ) and bulk c0²(1 − ρ0/ρ)²/2) +
+//! itemised one, kinetic + elastic (shear s:s/(4Gρ) and bulk c0²(1 − ρ0/ρ)²/2) +
 //! plastic work (the return map's Y Δε_p) + the heat of the artificial viscosity, of the
 //! artificial stress and of the hourglass control (as the solver books them), whose terms are
 //! each computed on their own;
@@ -91,7 +91,7 @@ pub fn infos() -> Vec<super::ProblemInfo> {
 }
 
 fn info(model: Model) -> super::ProblemInfo {
-    // how each model discretises the copper (issue 4 notes): the rings carry the hoop tension
+    // how each model discretises the copper (measured): the rings carry the hoop tension
     // of the foot's rim within each particle and never clump, so they run in the updated form
     // without artificial stress. The quarter's rim, stretched 2.2 times around its
     // circumference, loses its neighbours in the updated form: without artificial stress it
@@ -132,8 +132,8 @@ fn info(model: Model) -> super::ProblemInfo {
             ParamSpec::new("t_end", END_TIME, "end time (s)"),
             ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
             ParamSpec::new("beta", 2.0, "artificial viscosity β"),
-            // Balsara's switch (below; updated form), measured on the quarter model (issue 4
-            // note): with the plain viscosity α = 1 the viscous heating takes a quarter of the
+            // Balsara's switch (below; updated form), measured on the quarter model: with the
+            // plain viscosity α = 1 the viscous heating takes a quarter of the
             // impact energy and the bar stays 6 % too long
             ParamSpec::new(
                 "artificial_stress",
@@ -497,7 +497,8 @@ pub fn run(
     let fine = &measured[finest].run;
     let error = |key: &str| fine.errors.get(key).copied().unwrap_or(f64::NAN);
     let metric = |run: &Run, key: &str| run.metrics.get(key).copied().unwrap_or(f64::NAN);
-    // the issue's limits: 1.5 % and 3 % at full level, 4 % and 8 % at quick
+    // 1.5 % and 3 % at full level (the published simulations spread over L 21.26–21.66 mm and
+    // R 6.89–7.24 mm about the reference pair), 4 % and 8 % at quick
     let (length_limit, footprint_limit) = match level {
         Level::Full => (0.015, 0.03),
         Level::Quick => (0.04, 0.08),
