@@ -596,6 +596,79 @@ mod tests {
         assert!(err.contains("melt temperature"), "{err}");
     }
 
+    /// Johnson–Cook reports the temperature rise χ w_p / c_v of its own parameters.
+    #[test]
+    fn johnson_cook_temperature_rise_is_the_taylor_quinney_share() {
+        let strength = Strength::johnson_cook(46e9, copper_jc()).unwrap();
+        let rise = strength.temperature_rise(1e5).unwrap();
+        assert!((rise - 0.9 * 1e5 / 383.0).abs() < 1e-9, "{rise}");
+    }
+
+    /// A body spinning rigidly at ω (v = ω × x, so L = [[0, −ω], [ω, 0]]) carries its stress
+    /// round with it: s(t) = R(ωt) s0 R(ωt)ᵀ, whose rate at t = 0 is, for s0 = diag(1, −1),
+    /// [[0, 2ω], [2ω, 0]] (differentiating cos 2ωt and sin 2ωt). The sign of Ω s − s Ω is
+    /// what turns the stress the right way.
+    #[test]
+    fn jaumann_rate_turns_the_stress_with_the_material() {
+        let omega = 0.7;
+        let l = Matrix2::new(0.0, -omega, omega, 0.0);
+        let s = Matrix2::new(1.0, 0.0, 0.0, -1.0);
+        let rate = jaumann_rate(50.0, &s, &l, 0.0);
+        let rotated = |t: f64| {
+            let (sin, cos) = (omega * t).sin_cos();
+            let r = Matrix2::new(cos, -sin, sin, cos);
+            r * s * r.transpose()
+        };
+        let dt = 1e-6;
+        let finite_difference = (rotated(dt) - rotated(-dt)) / (2.0 * dt);
+        assert!(
+            (rate - finite_difference).norm() < 1e-8,
+            "{rate} vs {finite_difference}"
+        );
+        assert!((rate - Matrix2::new(0.0, 2.0 * omega, 2.0 * omega, 0.0)).norm() < 1e-12);
+    }
+
+    /// √(2/3 ė':ė') of three textbook flows: incompressible uniaxial extension
+    /// (ε̇, −ε̇/2, −ε̇/2) gives ε̇; simple shear at rate γ̇ (ε̇_xy = γ̇/2) gives γ̇/√3; plane
+    /// strain compression (ε̇, −ε̇, 0) gives 2ε̇/√3, and so does its 2D block with no
+    /// out-of-plane rate; uniaxial strain in 1D (ε̇, 0, 0) gives 2ε̇/3.
+    #[test]
+    fn equivalent_strain_rate_of_known_flows() {
+        let rate = 3.0;
+        let uniaxial = Matrix3::new(rate, 0.0, 0.0, 0.0, -rate / 2.0, 0.0, 0.0, 0.0, -rate / 2.0);
+        assert!((equivalent_strain_rate(&uniaxial, 0.0) - rate).abs() < 1e-12);
+        let shear = Matrix3::new(0.0, rate / 2.0, 0.0, rate / 2.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        assert!((equivalent_strain_rate(&shear, 0.0) - rate / 3f64.sqrt()).abs() < 1e-12);
+        let plane = Matrix2::new(rate, 0.0, 0.0, -rate);
+        assert!((equivalent_strain_rate(&plane, 0.0) - 2.0 * rate / 3f64.sqrt()).abs() < 1e-12);
+        let line = Matrix1::new(rate);
+        assert!((equivalent_strain_rate(&line, 0.0) - 2.0 * rate / 3.0).abs() < 1e-12);
+    }
+
+    /// The edges of the parameter ranges: ν = −1 and T_melt = T_room are refused; a
+    /// cohesionless sand (c = 0, φ > 0, no tensile strength) is a valid soil.
+    #[test]
+    fn parameter_ranges_at_their_edges() {
+        let err = Strength::elastic_moduli(117e9, -1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("Poisson"), "{err}");
+        assert!(Strength::elastic_moduli(117e9, -0.99).is_ok());
+        let mut jc = copper_jc();
+        jc.melt_temperature = jc.room_temperature;
+        let err = Strength::johnson_cook(46e9, jc).unwrap_err().to_string();
+        assert!(err.contains("melt temperature"), "{err}");
+        let sand = Strength::drucker_prager(50e6, 0.0, 35.0, 0.0).unwrap();
+        let at = |p: f64| {
+            sand.current_yield(&YieldState {
+                pressure: p,
+                ..YieldState::default()
+            })
+        };
+        assert_eq!(at(0.0), 0.0);
+        assert!(at(1e5) > 0.0);
+    }
+
     #[test]
     fn bad_soil_parameters_are_rejected_by_name() {
         let err = |r: Result<Strength, SolverError>| r.unwrap_err().to_string();

@@ -291,9 +291,28 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("unloading sound speed"), "{err}");
-        let err = Compaction::new(vec![(-1.0, 0.0), (1.0, 1.0)], speed, 0.0)
+        let err = Compaction::new(vec![(-1.0, 0.0), (1.0, 1.0)], speed.clone(), 0.0)
             .unwrap_err()
             .to_string();
         assert!(err.contains("density") && err.contains("> 0"), "{err}");
+        // a repeated density (a vertical step in the curve) and non-finite entries
+        let repeated = vec![(1600.0, 0.0), (1700.0, 5e6), (1700.0, 6e6)];
+        let err = Compaction::new(repeated, speed.clone(), 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("strictly increasing"), "{err}");
+        let infinite = vec![(1600.0, 0.0), (1700.0, f64::INFINITY)];
+        let err = Compaction::new(infinite, speed, 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("compaction curve pressure"), "{err}");
+        let err = Compaction::new(
+            vec![(1600.0, 0.0), (1700.0, 5e6)],
+            vec![(1600.0, f64::NAN)],
+            0.0,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("unloading sound speed"), "{err}");
     }
 }

@@ -184,6 +184,26 @@ mod tests {
         }
     }
 
+    /// Steinberg's lead (reference_data's hugoniot_linear.csv: C0 2006 m/s, S1 1.429,
+    /// S2 0.8506, S3 −1.64): the shock velocity the EOS solves through η satisfies the table's
+    /// own implicit form Us = C0 + S1 up + S2 up²/Us + S3 up³/Us², every term in play.
+    #[test]
+    fn steinberg_shock_velocity_satisfies_the_implicit_hugoniot() {
+        let lead =
+            MieGruneisen::steinberg(11340.0, 2006.0, 1.429, 0.8506, -1.64, 2.74, -1e12).unwrap();
+        for up in [100.0, 500.0, 1000.0, 2000.0] {
+            let us = lead.shock_velocity(up);
+            let implicit =
+                2006.0 + 1.429 * up + 0.8506 * up * up / us - 1.64 * up.powi(3) / us.powi(2);
+            assert!(
+                (us - implicit).abs() < 1e-9 * us,
+                "up {up}: {us} vs {implicit}"
+            );
+            // the S3 term alone moves Us by more than the tolerance: it is not dropped
+            assert!(1.64 * up.powi(3) / us.powi(2) > 1e-6 * us);
+        }
+    }
+
     #[test]
     fn linear_shock_velocity_is_c0_plus_s1_up() {
         let cu = copper();
@@ -201,6 +221,24 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(err.contains(field) && err.contains("> 0"), "{err}");
+        }
+    }
+
+    /// Non-finite S2, S3 and Γ0, and a negative S1 or Γ0, are refused by name.
+    #[test]
+    fn non_finite_hugoniot_terms_are_rejected_by_name() {
+        let make = |s1: f64, s2: f64, s3: f64, gamma0: f64| {
+            MieGruneisen::steinberg(8930.0, 3940.0, s1, s2, s3, gamma0, -1e9)
+        };
+        for (result, field) in [
+            (make(1.489, f64::NAN, 0.0, 2.02), "s2"),
+            (make(1.489, 0.0, f64::INFINITY, 2.02), "s3"),
+            (make(1.489, 0.0, 0.0, f64::NAN), "gamma0"),
+            (make(1.489, 0.0, 0.0, -0.1), "gamma0"),
+            (make(-0.1, 0.0, 0.0, 2.02), "s1"),
+        ] {
+            let err = result.unwrap_err().to_string();
+            assert!(err.contains(field), "{field}: {err}");
         }
     }
 
