@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Mutation testing of the solver library: every mutant cargo-mutants makes in solver/src,
+# judged by the solver package's own tests. Not part of CI: a full run takes hours on two
+# cores. Mutants listed as equivalent (they change nothing observable) are in
+# scripts/mutants-equivalent.md with the reason; every other survivor wants a test.
+#
+#   scripts/mutants.sh                          # all of solver/src
+#   scripts/mutants.sh --file solver/src/strength.rs
+#
+# Results land in mutants.out/ (caught.txt, missed.txt, timeout.txt, unviable.txt).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+command -v cargo-mutants >/dev/null 2>&1 || cargo install cargo-mutants --locked
+# the `mutants` profile: optimised (the tests run real simulations) but incremental and
+# without LTO or debug info, so that rebuilding one mutated file takes seconds
+exec cargo mutants \
+  --package blastsph-solver \
+  --profile mutants \
+  --jobs "${MUTANTS_JOBS:-2}" \
+  --timeout-multiplier 3 \
+  "$@"
