@@ -226,6 +226,45 @@ mod tests {
         assert!((b.force / 0.7917 - 1.0).abs() < 5e-3, "{b:?}");
     }
 
+    /// An exact closed-form bridge to check the shooting against: at zero suction the
+    /// meniscus has zero mean curvature, a catenoid y = a cosh(x/a) (Euler 1744).
+    /// Meeting the sphere at filling angle β with contact angle θ fixes it: the slope there,
+    /// sinh(x_c/a) = cot(β + θ), and the height a cosh(x_c/a) = a/sin(β + θ) = sin β give the
+    /// neck a = sin β sin(β + θ) and x_c = a asinh(cot(β + θ)); the sphere's centre at
+    /// x_c + cos β gives the gap S = 2(x_c + cos β − 1); the volume is
+    /// 2[π a²/2 (x_c + a/2 sinh(2x_c/a)) − π h²(3 − h)/3], h = 1 − cos β; and the force at the
+    /// neck is F = 2πγa, F* = a. The solver, given only V, θ and S, must find this shape
+    /// (measured within 2e-6 in force and filling angle at these five, all on the stable
+    /// branch at positive gaps; the limit is the bisections' 1e-4).
+    #[test]
+    fn zero_suction_bridges_are_catenoids() {
+        for (beta, theta_degrees) in [
+            (0.6f64, 0.0f64),
+            (0.8, 0.0),
+            (0.5, 20.0),
+            (0.7, 20.0),
+            (0.5, 40.0),
+        ] {
+            let theta = theta_degrees.to_radians();
+            let neck = beta.sin() * (beta + theta).sin();
+            let x_contact = neck * (1.0 / (beta + theta).tan()).asinh();
+            let gap = 2.0 * (x_contact + beta.cos() - 1.0);
+            let cap = 1.0 - beta.cos();
+            let revolved =
+                PI * neck * neck / 2.0 * (x_contact + neck / 2.0 * (2.0 * x_contact / neck).sinh());
+            let volume = 2.0 * (revolved - PI * cap * cap * (3.0 - cap) / 3.0);
+            let b = solve(volume, theta, gap).expect("a bridge");
+            assert!(gap > 0.0);
+            assert!(
+                (b.force / neck - 1.0).abs() < 1e-4,
+                "β {beta}, θ {theta_degrees}°: F* {} against the catenoid's {neck}",
+                b.force
+            );
+            assert!(b.pressure.abs() < 1e-4, "{b:?}");
+            assert!((b.filling_angle / beta - 1.0).abs() < 1e-4, "{b:?}");
+        }
+    }
+
     /// The computed shape holds the volume asked for, and the force falls with the gap.
     #[test]
     fn volume_is_met_and_force_falls_with_gap() {
