@@ -60,6 +60,12 @@ pub struct Run {
     pub phase_s: BTreeMap<String, f64>,
     /// The solver's diagnosis if the run stopped early.
     pub failure: Option<String>,
+    /// For a sensitivity row, what it varied from the problem's defaults (a parameter chosen
+    /// while its check was in view, run halved and doubled); None for the problem's own
+    /// runs. Sensitivity rows enter neither the checks, the observed orders nor the
+    /// work–precision plot: they show how much a result owes to the choice.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<String>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -142,6 +148,7 @@ impl Run {
             metrics: BTreeMap::new(),
             phase_s: BTreeMap::new(),
             failure: None,
+            sensitivity: None,
         }
     }
 }

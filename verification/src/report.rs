@@ -129,7 +129,11 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
     // one series per problem and formulation, in order of first appearance
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for record in records {
-        for run in record.runs.iter().filter(|r| r.failure.is_none()) {
+        for run in record
+            .runs
+            .iter()
+            .filter(|r| r.failure.is_none() && r.sensitivity.is_none())
+        {
             let Some((name, error)) = WORK_PRECISION_ERRORS
                 .iter()
                 .find_map(|&name| run.errors.get(name).map(|&e| (name, e)))

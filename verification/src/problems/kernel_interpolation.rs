@@ -124,6 +124,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             metrics: BTreeMap::new(),
             phase_s: BTreeMap::new(),
             failure: None,
+            sensitivity: None,
         });
         columns.push(format!("standard_h{h}"));
         table_columns.push(standard[..EVALUATION_POINTS].to_vec());

@@ -104,7 +104,7 @@ pub fn run(
     } else if sedov_blast::is_sedov(name) {
         sedov_blast::run(name, &params, level, progress)?
     } else {
-        shock_tube::run(name, &params, progress)?
+        shock_tube::run(name, &params, level, progress)?
     };
     let record = &mut output.record;
     record.problem = name.to_string();

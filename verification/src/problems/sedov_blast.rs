@@ -291,6 +291,7 @@ fn run_blast<const D: usize>(
         metrics: BTreeMap::new(),
         phase_s: BTreeMap::new(),
         failure: None,
+        sensitivity: None,
     };
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<D>::new(&init, vec![gas], domain, s.config) {
@@ -580,6 +581,36 @@ pub fn run(
         }
     }
     let headline_run = resolutions.len() - 1;
+    let mut runs: Vec<Run> = blasts.iter().map(|(_, b)| b.run.clone()).collect();
+    if level == Level::Full {
+        // The deposit width was chosen with the shock radius in view: the coarsest run of the
+        // problem's formulation with it halved and doubled.
+        let n = *resolutions.iter().min().expect("one resolution");
+        let s = Settings {
+            config: SimulationConfig {
+                smoothing: formulations[0],
+                ..base.config
+            },
+            ..base
+        };
+        for factor in [0.5, 2.0] {
+            let width = s.deposit_width * factor;
+            let varied = Settings {
+                deposit_width: width,
+                ..s
+            };
+            let mut row = match v.name {
+                "sedov-2d" => run_blast::<2>(&varied, n, &|_| {})?,
+                "sedov-3d" => run_blast::<3>(&varied, n, &|_| {})?,
+                _ => run_blast::<1>(&varied, n, &|_| {})?,
+            }
+            .run;
+            let what = format!("deposit_width = {width} (default {})", s.deposit_width);
+            row.label = format!("n = {n}, {what}");
+            row.sensitivity = Some(what);
+            runs.push(row);
+        }
+    }
     let finest_state = blasts[..resolutions.len()]
         .iter()
         .rev()
@@ -587,14 +618,7 @@ pub fn run(
     let (profile, figure) = profile_outputs(&base, finest_state);
     let snapshot = finest_state.map(|s| s.snapshot.clone());
     Ok(ProblemOutput {
-        record: Record::new(
-            name,
-            level,
-            blasts.into_iter().map(|(_, b)| b.run).collect(),
-            order,
-            checks,
-            headline_run,
-        ),
+        record: Record::new(name, level, runs, order, checks, headline_run),
         profile,
         figure,
         snapshot,

@@ -549,7 +549,51 @@ pub fn run(
         measured.iter().map(|m| &m.run),
         &["final_length_relative", "footprint_radius_relative"],
     );
-    let runs: Vec<Run> = measured.iter().map(|m| m.run.clone()).collect();
+    let mut runs: Vec<Run> = measured.iter().map(|m| m.run.clone()).collect();
+    if level == Level::Full {
+        // Sensitivity rows at the coarsest resolution, for the choices made with the footprint
+        // in view: the hourglass coefficient κ halved and doubled (total-Lagrangian), or
+        // Balsara's switch turned over (updated form).
+        let n = resolutions[(0..resolutions.len())
+            .min_by_key(|&k| resolutions[k])
+            .expect("one resolution")];
+        let variants: Vec<(String, ArtificialViscosity, SolidFormulation)> = match solids {
+            SolidFormulation::TotalLagrangian { hourglass } => [0.5, 2.0]
+                .iter()
+                .map(|f| {
+                    let varied = hourglass * f;
+                    (
+                        format!("hourglass = {varied} (default {hourglass})"),
+                        viscosity,
+                        SolidFormulation::TotalLagrangian { hourglass: varied },
+                    )
+                })
+                .collect(),
+            SolidFormulation::Updated => vec![(
+                format!(
+                    "balsara = {} (default {})",
+                    if viscosity.balsara { "off" } else { "on" },
+                    if viscosity.balsara { "on" } else { "off" }
+                ),
+                ArtificialViscosity {
+                    balsara: !viscosity.balsara,
+                    ..viscosity
+                },
+                solids,
+            )],
+        };
+        for (what, viscosity, solids) in variants {
+            let settings = (cfl, eta, viscosity, solids);
+            let mut row = match model {
+                Model::Axisymmetric => run_one::<2>(model, n, settings, t_end, &|_| {})?,
+                Model::Quarter => run_one::<3>(model, n, settings, t_end, &|_| {})?,
+            }
+            .run;
+            row.label = format!("n_radius = {n}, {what}");
+            row.sensitivity = Some(what);
+            runs.push(row);
+        }
+    }
     let mut table = Table::new(&["r", "z", "plastic_strain"]);
     for q in &measured[finest].profile {
         table.rows.push(vec![q.0, q.1, q.2]);
