@@ -15,8 +15,9 @@
 //!   thickness) shifted onto the envelope as c = σ_t tan φ_dry (Pierrat & Caram 1997);
 //! - moisture changes φ by less than 3° (10° at the quick level: one 300-grain sample per
 //!   point scatters; seeds 1, 2, 3 measured changes of 7.6°, 2.6° and 8.3°);
-//! - quasi-static loading: the inertial number ε̇ d̄ √(ρ/σ3) stays below 1e-3, and the first
-//!   sample's mean σ1 beyond 1 % strain moves by less than 4 % (10 % at the quick level) when
+//! - quasi-static loading: the inertial number ε̇ d̄ √(ρ/σ3) stays below 1e-3, and the mean σ1
+//!   beyond 1 % strain of the first seed and saturation at the highest σ3 moves by less than
+//!   4 % (10 % at the quick level) when
 //!   the platens run at half the speed (the platens are slowed, in proportion to σ3, until
 //!   the damping number is below 4e-3: see `DAMPING_NUMBER_LIMIT`);
 //! - the friction study: more friction between grains prepares a sample with a larger void
@@ -55,8 +56,13 @@ pub fn info() -> super::ProblemInfo {
                 "0,10,15,20",
                 "degrees of saturation in per cent (comma-separated, 0 = dry)",
             ),
-            ParamSpec::new(
+            // the quick level drops σ3 = 0.5 kPa, whose platens run slowest (speed ∝ σ3): half
+            // the level's work. Two points fix c and φ exactly. Measured at 300 grains, seed 1,
+            // c and φ dry and at 10 %: 59 and 375 Pa, 18.4° and 13.0° (Rumpf ratio 1.52); with
+            // all three σ3, 52 and 267 Pa, 18.6° and 15.3° (ratio 1.08)
+            ParamSpec::per_level(
                 "confining",
+                "1000,2000",
                 "500,1000,2000",
                 "confining stresses σ3 in Pa (comma-separated, at least two)",
             ),
