@@ -402,9 +402,9 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         // Limits at LIMIT_RESOLUTION particles and finer (a coarser run's errors grow at first
         // order, its limits with them): about twice the values measured there. L1(p)/p_CJ:
         // 3.1e-3, 1.6e-3, 8.7e-4, 5.3e-4 at 100–800 particles. The plateau: 0.04 %, 0.43 %,
-        // 0.49 %, 0.57 %, a bias that does not shrink with h: the burn releases its energy
-        // along the viscous ramp rather than on the Rayleigh line, so the products leave the
-        // front on a slightly different isentrope than the CJ point's.
+        // 0.49 %, 0.57 %, a bias that does not shrink with h (likely because the burn releases
+        // its energy along the viscous ramp rather than on the Rayleigh line, which leaves the
+        // products on a slightly different isentrope than the CJ point's; not yet shown).
         let coarseness = (LIMIT_RESOLUTION as f64 / n_fine as f64).max(1.0);
         checks.push(Check::at_most(
             format!("l1_p_over_p_cj_n_{n_fine}"),
