@@ -273,6 +273,23 @@ mod tests {
         assert_eq!(eos.sound_speed_after(1800.0, 0.0, 2151.5), 1890.0);
     }
 
+    /// Virgin sand pulled below its initial density unloads from ρ0 itself: p = c(ρ0)²(ρ − ρ0)
+    /// down to the tensile cutoff, which the health check reads as the floor; a one-knot
+    /// unloading table is a constant sound speed at every peak density.
+    #[test]
+    fn tension_below_the_initial_density_and_a_constant_sound_speed() {
+        let loading = vec![(1600.0, 0.0), (1700.0, 5e6), (1800.0, 20e6)];
+        let eos = Compaction::new(loading, vec![(1600.0, 500.0)], -1e5).unwrap();
+        assert_eq!(eos.initial_density(), 1600.0);
+        assert_eq!(eos.min_pressure(), -1e5);
+        let p = eos.pressure_after(1599.9, 0.0, 1599.9);
+        assert!((p - 500.0 * 500.0 * -0.1).abs() < 1e-6, "{p}");
+        assert_eq!(eos.pressure_after(1500.0, 0.0, 1500.0), -1e5);
+        for peak in [1600.0, 1750.0, 2000.0] {
+            assert_eq!(eos.sound_speed_after(peak, 0.0, peak), 500.0);
+        }
+    }
+
     #[test]
     fn non_physical_tables_are_rejected_by_name() {
         let falling = vec![(1600.0, 0.0), (1700.0, 5e6), (1800.0, 4e6)];
@@ -295,7 +312,12 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("density") && err.contains("> 0"), "{err}");
-        // a repeated density (a vertical step in the curve) and non-finite entries
+        // a knot at zero density, a repeated density (a vertical step in the curve) and
+        // non-finite entries
+        let err = Compaction::new(vec![(0.0, 0.0), (1.0, 1.0)], speed.clone(), 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("density") && err.contains("> 0"), "{err}");
         let repeated = vec![(1600.0, 0.0), (1700.0, 5e6), (1700.0, 6e6)];
         let err = Compaction::new(repeated, speed.clone(), 0.0)
             .unwrap_err()
