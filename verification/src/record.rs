@@ -194,9 +194,15 @@ impl<const D: usize> Conservation<D> {
         );
         metrics.insert(
             "momentum_round_off_bound".into(),
-            10.0 * (sim.steps() as f64).sqrt() * f64::EPSILON,
+            momentum_round_off_bound(sim.steps()),
         );
     }
+}
+
+/// Ten times the random walk of per-step round-off, 10 √steps · ε: the limit on a relative
+/// momentum residual (see [`Conservation`]).
+pub fn momentum_round_off_bound(steps: u64) -> f64 {
+    10.0 * (steps as f64).sqrt() * f64::EPSILON
 }
 
 /// The two conservation checks of a run booked by [`Conservation::close`]: momentum within its

@@ -304,12 +304,11 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
             metric(&held, "energy_balance_relative"),
             1e-4,
         ),
-        // pair forces are antisymmetric: round-off, a random walk of √steps · ε
-        // (`record::Conservation`), ten times it
+        // pair forces are antisymmetric: round-off only
         Check::at_most(
             "momentum_relative",
             metric(&held, "momentum_relative"),
-            10.0 * (held.run.steps as f64).sqrt() * f64::EPSILON,
+            crate::record::momentum_round_off_bound(held.run.steps),
         ),
         // and the artificial stress is what holds them: without it the tension of the
         // rebound clumps particles into pairs (Gray, Monaghan & Swift's figure of the same

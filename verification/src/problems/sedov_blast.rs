@@ -268,6 +268,20 @@ fn setup<const D: usize>(s: &Settings, n: usize) -> (Vec<ParticleInit<D>>, Domai
     (init, domain, spacing)
 }
 
+/// The blast of variant `v` at resolution n, in the variant's dimension.
+fn run_variant(
+    v: &Variant,
+    s: &Settings,
+    n: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<BlastRun, VerifyError> {
+    match v.name {
+        "sedov-2d" => run_blast::<2>(s, n, progress),
+        "sedov-3d" => run_blast::<3>(s, n, progress),
+        _ => run_blast::<1>(s, n, progress),
+    }
+}
+
 fn run_blast<const D: usize>(
     s: &Settings,
     n: usize,
@@ -483,11 +497,7 @@ pub fn run(
         for (k, &n) in resolutions.iter().enumerate() {
             let done = (f * resolutions.len() + k) as f64;
             let part = |x: f64| progress((done + x) / total);
-            let blast = match v.name {
-                "sedov-2d" => run_blast::<2>(&s, n, &part)?,
-                "sedov-3d" => run_blast::<3>(&s, n, &part)?,
-                _ => run_blast::<1>(&s, n, &part)?,
-            };
+            let blast = run_variant(v, &s, n, &part)?;
             blasts.push((f, blast));
         }
     }
@@ -599,12 +609,7 @@ pub fn run(
                 deposit_width: width,
                 ..s
             };
-            let mut row = match v.name {
-                "sedov-2d" => run_blast::<2>(&varied, n, &|_| {})?,
-                "sedov-3d" => run_blast::<3>(&varied, n, &|_| {})?,
-                _ => run_blast::<1>(&varied, n, &|_| {})?,
-            }
-            .run;
+            let mut row = run_variant(v, &varied, n, &|_| {})?.run;
             let what = format!("deposit_width = {width} (default {})", s.deposit_width);
             row.label = format!("n = {n}, {what}");
             row.sensitivity = Some(what);

@@ -251,6 +251,20 @@ fn bar_particles<const D: usize>(n_radius: usize, density: f64, eta: f64) -> Vec
     init
 }
 
+/// The bar of `model` (rings in 2D, the quarter in 3D) at n particles across the radius.
+fn run_model(
+    model: Model,
+    n_radius: usize,
+    settings: (f64, f64, ArtificialViscosity, SolidFormulation),
+    t_end: f64,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Measured, VerifyError> {
+    match model {
+        Model::Axisymmetric => run_one::<2>(model, n_radius, settings, t_end, progress),
+        Model::Quarter => run_one::<3>(model, n_radius, settings, t_end, progress),
+    }
+}
+
 fn run_one<const D: usize>(
     model: Model,
     n_radius: usize,
@@ -470,10 +484,7 @@ pub fn run(
     for (k, &n) in resolutions.iter().enumerate() {
         let part = |f: f64| progress((k as f64 + f) / resolutions.len() as f64);
         let settings = (cfl, eta, viscosity, solids);
-        measured.push(match model {
-            Model::Axisymmetric => run_one::<2>(model, n, settings, t_end, &part)?,
-            Model::Quarter => run_one::<3>(model, n, settings, t_end, &part)?,
-        });
+        measured.push(run_model(model, n, settings, t_end, &part)?);
     }
     // Taylor's one-dimensional estimate, reported beside the result (not checked: it ignores
     // the radial inertia and elasticity of the foot, so it is a bound on the physics, not the
@@ -584,11 +595,7 @@ pub fn run(
         };
         for (what, viscosity, solids) in variants {
             let settings = (cfl, eta, viscosity, solids);
-            let mut row = match model {
-                Model::Axisymmetric => run_one::<2>(model, n, settings, t_end, &|_| {})?,
-                Model::Quarter => run_one::<3>(model, n, settings, t_end, &|_| {})?,
-            }
-            .run;
+            let mut row = run_model(model, n, settings, t_end, &|_| {})?.run;
             row.label = format!("n_radius = {n}, {what}");
             row.sensitivity = Some(what);
             runs.push(row);
