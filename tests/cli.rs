@@ -151,6 +151,8 @@ fn non_physical_parameters_are_exit_2_with_the_range() {
         ("n_left=-5", "n_left"),
         ("t_end=abc", "t_end"),
         ("density=magic", "density"),
+        ("left=1,0", "left"),
+        ("right=1,0,-0.1", "right"),
     ] {
         let out = blastsph(&["verify", "sod", "--set", set]);
         assert_eq!(out.status.code(), Some(2), "{set}");
