@@ -51,8 +51,9 @@
 
 use crate::kernel::Kernel;
 use crate::neighbours::NeighbourList;
+use crate::pairs::{self, PairEquation};
 use crate::particles::Particles;
-use rayon::prelude::*;
+use crate::Vector;
 use std::f64::consts::PI;
 
 /// How the planar pair loops see a particle: planar as it is, or axisymmetric through its ring
@@ -95,29 +96,63 @@ pub fn radius_gradients<const D: usize>(
     neighbours: &NeighbourList,
     kernel: &Kernel<D>,
 ) -> Vec<f64> {
-    let p = particles;
-    let geometry = PairGeometry::Axisymmetric;
-    (0..p.n_real())
-        .into_par_iter()
-        .map(|i| {
-            let (even, odd) = neighbours.of(i).fold((0.0, 0.0), |(even, odd), j| {
-                let dx = p.position[i] - p.position[j];
-                let r = dx.norm();
-                if r == 0.0 {
-                    return (even, odd);
-                }
-                let h = 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]);
-                let area = p.mass[j] / (p.density[j] * geometry.scales(p, j).0);
-                let weight = area * kernel.derivative(r, h) * dx[0] / r;
-                let (r_i, r_j) = (p.position[i][0], p.position[j][0]);
-                (
-                    even - weight * (r_i - r_j.abs()),
-                    odd - weight * (r_i - r_j),
-                )
-            });
-            even / odd
-        })
-        .collect()
+    pairs::gather(&RadiusGradient { kernel }, particles, neighbours)
+}
+
+/// The pass of [`radius_gradients`].
+struct RadiusGradient<'a, const D: usize> {
+    kernel: &'a Kernel<D>,
+}
+
+/// What the radius-gradient pass reads of a neighbour.
+struct RingSource<const D: usize> {
+    position: Vector<D>,
+    smoothing_length: f64,
+    /// The ring's cross-section A = m/η.
+    area: f64,
+}
+
+impl<const D: usize> PairEquation<D> for RadiusGradient<'_, D> {
+    type Source = RingSource<D>;
+    /// G^even and G^odd.
+    type Sum = (f64, f64);
+    type Output = f64;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> RingSource<D> {
+        RingSource {
+            position: p.position[k],
+            smoothing_length: p.smoothing_length[k],
+            area: p.mass[k] / (p.density[k] * PairGeometry::Axisymmetric.scales(p, k).0),
+        }
+    }
+
+    fn start(&self, _: &RingSource<D>) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        (even, odd): &mut (f64, f64),
+        me: &RingSource<D>,
+        other: &RingSource<D>,
+        _: &(),
+    ) {
+        let dx = me.position - other.position;
+        let r = dx.norm();
+        if r == 0.0 {
+            return;
+        }
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        let weight = other.area * self.kernel.derivative(r, h) * dx[0] / r;
+        let (r_i, r_j) = (me.position[0], other.position[0]);
+        *even -= weight * (r_i - r_j.abs());
+        *odd -= weight * (r_i - r_j);
+    }
+
+    fn finish(&self, _: &RingSource<D>, (even, odd): (f64, f64)) -> f64 {
+        even / odd
+    }
 }
 
 /// The hoop strain rates ε̇_θθ = G_i v_r/r of the real particles (G_i from [`radius_gradients`]).

@@ -17,6 +17,7 @@ pub mod error;
 pub mod kernel;
 pub mod neighbours;
 pub mod operators;
+pub mod pairs;
 pub mod particles;
 pub mod physics;
 pub mod radial;

@@ -10,6 +10,7 @@ use crate::axisymmetric::PairGeometry;
 use crate::error::SolverError;
 use crate::kernel::Kernel;
 use crate::neighbours::NeighbourList;
+use crate::pairs::{self, PairEquation};
 use crate::particles::Particles;
 use crate::{Tensor, Vector};
 use rayon::prelude::*;
@@ -340,54 +341,46 @@ pub fn signal_speed(c_i: f64, c_j: f64, v_dot_rhat: f64) -> f64 {
     c_i + c_j - 3.0 * v_dot_rhat.min(0.0)
 }
 
-/// What the density loop reads of a neighbour, packed so one cache line serves one pair.
+/// What the density pass reads of a neighbour, packed so one cache line serves one pair.
 #[derive(Clone, Copy)]
-struct DensitySource<const D: usize> {
+pub(crate) struct DensitySource<const D: usize> {
     position: Vector<D>,
     smoothing_length: f64,
     mass: f64,
 }
 
-/// Summation density ρ_i = m_i W(0, h_i) + Σ_j m_j W(r_ij, h̄_ij) for the real particles.
-pub fn summation_density<const D: usize>(
-    particles: &mut Particles<D>,
-    neighbours: &NeighbourList,
-    kernel: &Kernel<D>,
-) {
-    let n = particles.n_real();
-    let p = &*particles;
-    let sources: Vec<DensitySource<D>> = (0..p.len())
-        .into_par_iter()
-        .map(|k| DensitySource {
+/// Summation density ρ_i = m_i W(0, h_i) + Σ_j m_j W(r_ij, h̄_ij).
+pub(crate) struct SummationDensity<'a, const D: usize> {
+    pub kernel: &'a Kernel<D>,
+}
+
+impl<const D: usize> PairEquation<D> for SummationDensity<'_, D> {
+    type Source = DensitySource<D>;
+    type Sum = f64;
+    type Output = f64;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> DensitySource<D> {
+        DensitySource {
             position: p.position[k],
             smoothing_length: p.smoothing_length[k],
             mass: p.mass[k],
-        })
-        .collect();
-    let density: Vec<f64> = (0..n)
-        .into_par_iter()
-        .map(|i| density_at(i, &sources, neighbours, kernel))
-        .collect();
-    particles.density[..n].copy_from_slice(&density);
-}
+        }
+    }
 
-#[inline(never)]
-fn density_at<const D: usize>(
-    i: usize,
-    sources: &[DensitySource<D>],
-    neighbours: &NeighbourList,
-    kernel: &Kernel<D>,
-) -> f64 {
-    let me = &sources[i];
-    neighbours.of(i).fold(
-        me.mass * kernel.value(0.0, me.smoothing_length),
-        |rho, j| {
-            let other = &sources[j];
-            let r = (me.position - other.position).norm();
-            let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-            rho + other.mass * kernel.value(r, h)
-        },
-    )
+    fn start(&self, me: &DensitySource<D>) -> f64 {
+        me.mass * self.kernel.value(0.0, me.smoothing_length)
+    }
+
+    #[inline]
+    fn pair(&self, rho: &mut f64, me: &DensitySource<D>, other: &DensitySource<D>, _: &()) {
+        let r = (me.position - other.position).norm();
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        *rho += other.mass * self.kernel.value(r, h);
+    }
+
+    fn finish(&self, _: &DensitySource<D>, rho: f64) -> f64 {
+        rho
+    }
 }
 
 /// The outcome of solving one particle's h together with its density.
@@ -422,10 +415,7 @@ pub fn solve_smoothing_lengths<const D: usize>(
     initial_guess: &[f64],
 ) -> Vec<SmoothingSolution> {
     let p = particles;
-    let sources: Vec<(Vector<D>, f64)> = (0..p.len())
-        .into_par_iter()
-        .map(|k| (p.position[k], p.mass[k]))
-        .collect();
+    let sources = pairs::sources(&DensityAtH { kernel, h: 0.0 }, p);
     (0..p.n_real())
         .into_par_iter()
         .map(|i| {
@@ -443,6 +433,47 @@ pub fn solve_smoothing_lengths<const D: usize>(
         .collect()
 }
 
+/// Σ_j m_j W(r_ij, h) and its h derivative Σ_j m_j ∂W(r_ij, h)/∂h at one trial h of the
+/// particle, self term included: what grad-h's root finder evaluates.
+struct DensityAtH<'a, const D: usize> {
+    kernel: &'a Kernel<D>,
+    h: f64,
+}
+
+impl<const D: usize> PairEquation<D> for DensityAtH<'_, D> {
+    type Source = (Vector<D>, f64);
+    type Sum = (f64, f64);
+    type Output = (f64, f64);
+
+    fn source(&self, p: &Particles<D>, k: usize) -> (Vector<D>, f64) {
+        (p.position[k], p.mass[k])
+    }
+
+    fn start(&self, &(_, m_i): &(Vector<D>, f64)) -> (f64, f64) {
+        (
+            m_i * self.kernel.value(0.0, self.h),
+            m_i * self.kernel.h_derivative(0.0, self.h),
+        )
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        (rho, drho): &mut (f64, f64),
+        &(x_i, _): &(Vector<D>, f64),
+        &(x_j, m_j): &(Vector<D>, f64),
+        _: &(),
+    ) {
+        let r = (x_i - x_j).norm();
+        *rho += m_j * self.kernel.value(r, self.h);
+        *drho += m_j * self.kernel.h_derivative(r, self.h);
+    }
+
+    fn finish(&self, _: &(Vector<D>, f64), sums: (f64, f64)) -> (f64, f64) {
+        sums
+    }
+}
+
 fn solve_one<const D: usize>(
     i: usize,
     sources: &[(Vector<D>, f64)],
@@ -451,25 +482,9 @@ fn solve_one<const D: usize>(
     (eta, tolerance): (f64, f64),
     (guess, reach): (f64, f64),
 ) -> SmoothingSolution {
-    let (x_i, m_i) = sources[i];
+    let m_i = sources[i].1;
     let dim = D as f64;
-    // Σ_j m_j W(r_ij, h) and its h derivative
-    let sums = |h: f64| {
-        neighbours.of(i).fold(
-            (
-                m_i * kernel.value(0.0, h),
-                m_i * kernel.h_derivative(0.0, h),
-            ),
-            |(rho, drho), j| {
-                let (x_j, m_j) = sources[j];
-                let r = (x_i - x_j).norm();
-                (
-                    rho + m_j * kernel.value(r, h),
-                    drho + m_j * kernel.h_derivative(r, h),
-                )
-            },
-        )
-    };
+    let sums = |h: f64| pairs::sum_at(&DensityAtH { kernel, h }, sources, neighbours, i);
     let (mut lo, mut hi) = (0.0, f64::INFINITY);
     let mut h = guess;
     for _ in 0..MAX_SMOOTHING_ITERATIONS {
@@ -546,17 +561,20 @@ struct Rates<const D: usize> {
     viscous_heating: f64,
 }
 
-/// The parameters of the rate loop that are the same for every pair.
-struct RateTerms<'a, const D: usize> {
+/// The Euler pair terms: momentum, energy and density rates (see [`compute_rates`]).
+struct EulerRates<'a, const D: usize> {
     kernel: &'a Kernel<D>,
     viscosity: &'a ArtificialViscosity,
     energy: EnergyEquation,
     pair_kernel: PairKernel,
     /// Continuity density: the volume form of density, momentum and energy rates.
     volume_form: bool,
+    geometry: PairGeometry,
+    /// Each real particle's Balsara factor, where the switch is on.
+    balsara: Option<&'a [f64]>,
 }
 
-impl<const D: usize> RateTerms<'_, D> {
+impl<const D: usize> EulerRates<'_, D> {
     /// The factor that turns j's m_j v_ij·∇W into its share of Dρ_i/Dt.
     #[inline]
     fn density_weight(&self, me: &RateSource<D>, other: &RateSource<D>) -> f64 {
@@ -575,6 +593,129 @@ impl<const D: usize> RateTerms<'_, D> {
         } else {
             1.0
         }
+    }
+}
+
+impl<const D: usize> PairEquation<D> for EulerRates<'_, D> {
+    type Source = RateSource<D>;
+    type Sum = Rates<D>;
+    type Output = Rates<D>;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> RateSource<D> {
+        let (density_scale, stress_scale) = self.geometry.scales(p, k);
+        let density = p.density[k] * density_scale;
+        let pressure = p.pressure[k] * stress_scale;
+        RateSource {
+            position: p.position[k],
+            velocity: p.velocity[k],
+            smoothing_length: p.smoothing_length[k],
+            mass: p.mass[k],
+            density,
+            sound_speed: p.sound_speed[k],
+            pressure,
+            internal_energy: p.internal_energy[k],
+            pressure_factor: if self.volume_form {
+                pressure / density
+            } else {
+                pressure_term(pressure, density, 0.0, 1.0) / p.omega.get(k).copied().unwrap_or(1.0)
+            },
+            is_wall: p.image(k).is_some_and(|im| im.is_wall),
+            material: p.material_of(k) as u16,
+            balsara: self.balsara.map_or(1.0, |f| f[p.real_index(k)]),
+            alpha_factor: p
+                .viscosity_alpha
+                .get(p.real_index(k))
+                .map_or(1.0, |alpha| alpha / self.viscosity.alpha),
+        }
+    }
+
+    fn start(&self, me: &RateSource<D>) -> Rates<D> {
+        Rates {
+            acceleration: Vector::zeros(),
+            energy_rate: 0.0,
+            density_rate: 0.0,
+            signal_speed: me.sound_speed,
+            wall_force: Vector::zeros(),
+            viscous_heating: 0.0,
+        }
+    }
+
+    #[inline]
+    fn pair(&self, out: &mut Rates<D>, me: &RateSource<D>, other: &RateSource<D>, _: &()) {
+        let dx = me.position - other.position;
+        let r2 = dx.norm_squared();
+        if r2 == 0.0 {
+            return; // coincident particles: ∇W = 0 by symmetry
+        }
+        let r = r2.sqrt();
+        let inv_r = 1.0 / r;
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        // dW/dr for i's pressure, for j's, and their mean for viscosity and conduction
+        let (dw_i, dw_j) = self.pair_kernel.derivatives(
+            self.kernel,
+            r,
+            me.smoothing_length,
+            other.smoothing_length,
+        );
+        let dw_mean = 0.5 * (dw_i + dw_j);
+        let v_ij = me.velocity - other.velocity;
+        let v_dot_x = v_ij.dot(&dx);
+        let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
+        let rho_mean = 0.5 * (me.density + other.density);
+        let pi_ij = self.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean)
+            * (0.5 * (me.balsara + other.balsara))
+            * (0.5 * (me.alpha_factor + other.alpha_factor));
+        let m_j = other.mass;
+        // every gradient here is dW/dr · x_ij/r, so the pair's terms combine as scalars
+        let pressure_i = m_j * me.pressure_factor * self.partner_factor(other) * dw_i;
+        let pressure_j = m_j * other.pressure_factor * self.partner_factor(me) * dw_j;
+        // m_j Π_ij in both forms: in the volume form it is m_j q_ij/(ρ_i ρ_j) with the viscous
+        // pressure q_ij = ρ̃ (−α c̄ μ + β μ²) at the harmonic mean density ρ̃, which the
+        // lighter side sets across a density jump
+        let viscous = m_j * pi_ij * dw_mean;
+        let v_dot_rhat = v_dot_x * inv_r;
+        out.acceleration -= dx * ((pressure_i + pressure_j + viscous) * inv_r);
+        // half the pair's viscous dissipation heats each side, in both energy forms
+        let viscous_heating = 0.5 * viscous * v_dot_rhat;
+        out.viscous_heating += viscous_heating;
+        out.energy_rate += viscous_heating
+            + v_dot_rhat
+                * match self.energy {
+                    EnergyEquation::OwnPressure => pressure_i,
+                    EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j),
+                };
+        out.energy_rate += m_j
+            * dw_mean
+            * self.viscosity.conduction(
+                me.internal_energy,
+                other.internal_energy,
+                me.pressure,
+                other.pressure,
+                rho_mean,
+            );
+        out.density_rate += m_j * dw_i * v_dot_rhat * self.density_weight(me, other);
+        let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_rhat);
+        out.signal_speed = out.signal_speed.max(v_sig);
+        if other.is_wall {
+            out.wall_force -= dx * ((pressure_i + pressure_j + viscous) * inv_r * me.mass);
+        }
+        if let Some(penalty) = &self.viscosity.interface_penalty {
+            if me.material != other.material {
+                let force = dx
+                    * (penalty.acceleration_times_distance(r, h)
+                        * inv_r
+                        * inv_r
+                        * (2.0 * me.mass * m_j / (me.mass + m_j)));
+                out.acceleration += force / me.mass;
+                if other.is_wall {
+                    out.wall_force += force;
+                }
+            }
+        }
+    }
+
+    fn finish(&self, _: &RateSource<D>, rates: Rates<D>) -> Rates<D> {
+        rates
     }
 }
 
@@ -665,51 +806,16 @@ pub fn compute_rates<const D: usize>(
     balsara: Option<&[f64]>,
     geometry: PairGeometry,
 ) -> RateTotals<D> {
-    let n = particles.n_real();
-    let p = &*particles;
-    let terms = RateTerms {
+    let equation = EulerRates {
         kernel,
         viscosity,
         energy,
         pair_kernel,
         volume_form: !particles.density_rate.is_empty(),
+        geometry,
+        balsara,
     };
-    let volume_form = terms.volume_form;
-    let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
-    let sources: Vec<RateSource<D>> = (0..p.len())
-        .into_par_iter()
-        .map(|k| {
-            let (density_scale, stress_scale) = geometry.scales(p, k);
-            let density = p.density[k] * density_scale;
-            let pressure = p.pressure[k] * stress_scale;
-            RateSource {
-                position: p.position[k],
-                velocity: p.velocity[k],
-                smoothing_length: p.smoothing_length[k],
-                mass: p.mass[k],
-                density,
-                sound_speed: p.sound_speed[k],
-                pressure,
-                internal_energy: p.internal_energy[k],
-                pressure_factor: if volume_form {
-                    pressure / density
-                } else {
-                    pressure_term(pressure, density, 0.0, 1.0) / omega(k)
-                },
-                is_wall: p.image(k).is_some_and(|im| im.is_wall),
-                material: p.material_of(k) as u16,
-                balsara: balsara.map_or(1.0, |f| f[p.real_index(k)]),
-                alpha_factor: p
-                    .viscosity_alpha
-                    .get(p.real_index(k))
-                    .map_or(1.0, |alpha| alpha / viscosity.alpha),
-            }
-        })
-        .collect();
-    let rates: Vec<Rates<D>> = (0..n)
-        .into_par_iter()
-        .map(|i| rates_at(i, &sources, neighbours, &terms))
-        .collect();
+    let rates = pairs::gather(&equation, particles, neighbours);
     let p = particles;
     let (continuity, grad_h) = (!p.density_rate.is_empty(), !p.smoothing_rate.is_empty());
     let mut totals = RateTotals::default();
@@ -730,100 +836,6 @@ pub fn compute_rates<const D: usize>(
     totals
 }
 
-#[inline(never)]
-fn rates_at<const D: usize>(
-    i: usize,
-    sources: &[RateSource<D>],
-    neighbours: &NeighbourList,
-    terms: &RateTerms<D>,
-) -> Rates<D> {
-    let me = &sources[i];
-    let mut out = Rates {
-        acceleration: Vector::zeros(),
-        energy_rate: 0.0,
-        density_rate: 0.0,
-        signal_speed: me.sound_speed,
-        wall_force: Vector::zeros(),
-        viscous_heating: 0.0,
-    };
-    for part in neighbours.parts(i) {
-        for &j in part {
-            let other = &sources[j as usize];
-            let dx = me.position - other.position;
-            let r2 = dx.norm_squared();
-            if r2 == 0.0 {
-                continue; // coincident particles: ∇W = 0 by symmetry
-            }
-            let r = r2.sqrt();
-            let inv_r = 1.0 / r;
-            let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-            // dW/dr for i's pressure, for j's, and their mean for viscosity and conduction
-            let (dw_i, dw_j) = terms.pair_kernel.derivatives(
-                terms.kernel,
-                r,
-                me.smoothing_length,
-                other.smoothing_length,
-            );
-            let dw_mean = 0.5 * (dw_i + dw_j);
-            let v_ij = me.velocity - other.velocity;
-            let v_dot_x = v_ij.dot(&dx);
-            let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
-            let rho_mean = 0.5 * (me.density + other.density);
-            let pi_ij = terms.viscosity.pi(v_dot_x, r2, h, c_mean, rho_mean)
-                * (0.5 * (me.balsara + other.balsara))
-                * (0.5 * (me.alpha_factor + other.alpha_factor));
-            let m_j = other.mass;
-            // every gradient here is dW/dr · x_ij/r, so the pair's terms combine as scalars
-            let pressure_i = m_j * me.pressure_factor * terms.partner_factor(other) * dw_i;
-            let pressure_j = m_j * other.pressure_factor * terms.partner_factor(me) * dw_j;
-            // m_j Π_ij in both forms: in the volume form it is m_j q_ij/(ρ_i ρ_j) with the viscous
-            // pressure q_ij = ρ̃ (−α c̄ μ + β μ²) at the harmonic mean density ρ̃, which the
-            // lighter side sets across a density jump
-            let viscous = m_j * pi_ij * dw_mean;
-            let v_dot_rhat = v_dot_x * inv_r;
-            out.acceleration -= dx * ((pressure_i + pressure_j + viscous) * inv_r);
-            // half the pair's viscous dissipation heats each side, in both energy forms
-            let viscous_heating = 0.5 * viscous * v_dot_rhat;
-            out.viscous_heating += viscous_heating;
-            out.energy_rate += viscous_heating
-                + v_dot_rhat
-                    * match terms.energy {
-                        EnergyEquation::OwnPressure => pressure_i,
-                        EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j),
-                    };
-            out.energy_rate += m_j
-                * dw_mean
-                * terms.viscosity.conduction(
-                    me.internal_energy,
-                    other.internal_energy,
-                    me.pressure,
-                    other.pressure,
-                    rho_mean,
-                );
-            out.density_rate += m_j * dw_i * v_dot_rhat * terms.density_weight(me, other);
-            let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_rhat);
-            out.signal_speed = out.signal_speed.max(v_sig);
-            if other.is_wall {
-                out.wall_force -= dx * ((pressure_i + pressure_j + viscous) * inv_r * me.mass);
-            }
-            if let Some(penalty) = &terms.viscosity.interface_penalty {
-                if me.material != other.material {
-                    let force = dx
-                        * (penalty.acceleration_times_distance(r, h)
-                            * inv_r
-                            * inv_r
-                            * (2.0 * me.mass * m_j / (me.mass + m_j)));
-                    out.acceleration += force / me.mass;
-                    if other.is_wall {
-                        out.wall_force += force;
-                    }
-                }
-            }
-        }
-    }
-    out
-}
-
 /// The velocity gradient L_i = Σ_j m_j w_ij (v_j − v_i) ⊗ ∇_i W_ij of the real particles, with
 /// w_ij = 1/(Ω_i ρ_i) in the standard form and 1/ρ_j in the volume form (continuity density):
 /// the weights under which the work of the stress forces equals the deviatoric heating
@@ -836,38 +848,88 @@ pub fn velocity_gradients<const D: usize>(
     pair_kernel: PairKernel,
     geometry: PairGeometry,
 ) -> Vec<Tensor<D>> {
-    let p = particles;
-    let volume_form = !p.density_rate.is_empty();
-    (0..p.n_real())
-        .into_par_iter()
-        .map(|i| {
-            let mut gradient = Tensor::<D>::zeros();
-            for j in neighbours.of(i) {
-                let dx = p.position[i] - p.position[j];
-                let r = dx.norm();
-                if r == 0.0 {
-                    continue;
-                }
-                let h = match pair_kernel {
-                    PairKernel::MeanH => 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]),
-                    PairKernel::OwnH => p.smoothing_length[i],
-                };
-                let ring_density = |k: usize| p.density[k] * geometry.scales(p, k).0;
-                let weight = if volume_form {
-                    1.0 / ring_density(j)
-                } else {
-                    1.0 / ring_density(i)
-                };
-                let scale = p.mass[j] * weight * kernel.derivative(r, h) / r;
-                gradient += (p.velocity[j] - p.velocity[i]) * (dx * scale).transpose();
-            }
-            if volume_form {
-                gradient
-            } else {
-                gradient / p.omega.get(i).copied().unwrap_or(1.0)
-            }
-        })
-        .collect()
+    let equation = VelocityGradient {
+        kernel,
+        pair_kernel,
+        geometry,
+        volume_form: !particles.density_rate.is_empty(),
+    };
+    pairs::gather(&equation, particles, neighbours)
+}
+
+/// The velocity-gradient pass (see [`velocity_gradients`]).
+struct VelocityGradient<'a, const D: usize> {
+    kernel: &'a Kernel<D>,
+    pair_kernel: PairKernel,
+    geometry: PairGeometry,
+    volume_form: bool,
+}
+
+/// What the velocity-gradient pass reads of a neighbour.
+struct GradientSource<const D: usize> {
+    position: Vector<D>,
+    velocity: Vector<D>,
+    smoothing_length: f64,
+    mass: f64,
+    /// ρ, or η = 2π|r|ρ in an axisymmetric scene.
+    ring_density: f64,
+    /// Ω (1 without grad-h).
+    omega: f64,
+}
+
+impl<const D: usize> PairEquation<D> for VelocityGradient<'_, D> {
+    type Source = GradientSource<D>;
+    type Sum = Tensor<D>;
+    type Output = Tensor<D>;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> GradientSource<D> {
+        GradientSource {
+            position: p.position[k],
+            velocity: p.velocity[k],
+            smoothing_length: p.smoothing_length[k],
+            mass: p.mass[k],
+            ring_density: p.density[k] * self.geometry.scales(p, k).0,
+            omega: p.omega.get(k).copied().unwrap_or(1.0),
+        }
+    }
+
+    fn start(&self, _: &GradientSource<D>) -> Tensor<D> {
+        Tensor::zeros()
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        gradient: &mut Tensor<D>,
+        me: &GradientSource<D>,
+        other: &GradientSource<D>,
+        _: &(),
+    ) {
+        let dx = me.position - other.position;
+        let r = dx.norm();
+        if r == 0.0 {
+            return;
+        }
+        let h = match self.pair_kernel {
+            PairKernel::MeanH => 0.5 * (me.smoothing_length + other.smoothing_length),
+            PairKernel::OwnH => me.smoothing_length,
+        };
+        let weight = if self.volume_form {
+            1.0 / other.ring_density
+        } else {
+            1.0 / me.ring_density
+        };
+        let scale = other.mass * weight * self.kernel.derivative(r, h) / r;
+        *gradient += (other.velocity - me.velocity) * (dx * scale).transpose();
+    }
+
+    fn finish(&self, me: &GradientSource<D>, gradient: Tensor<D>) -> Tensor<D> {
+        if self.volume_form {
+            gradient
+        } else {
+            gradient / me.omega
+        }
+    }
 }
 
 /// Balsara's (1995) switch f_i = |∇·v| / (|∇·v| + |∇×v| + 1e-4 c_i/h_i): near 1 in compression,
@@ -909,6 +971,110 @@ struct StressSource<const D: usize> {
     spacing: f64,
 }
 
+/// The stress pair terms of [`add_stress_rates`]: per real particle its acceleration, the
+/// part of m_i a_i exerted by wall images, and the heat returned for the artificial stress's
+/// work.
+struct StressForces<'a, const D: usize> {
+    kernel: &'a Kernel<D>,
+    pair_kernel: PairKernel,
+    volume_form: bool,
+    shear_modulus: &'a [f64],
+    artificial_stress: Option<ArtificialStress>,
+    geometry: PairGeometry,
+}
+
+impl<const D: usize> PairEquation<D> for StressForces<'_, D> {
+    type Source = StressSource<D>;
+    type Sum = (Vector<D>, Vector<D>, f64);
+    type Output = (Vector<D>, Vector<D>, f64);
+
+    fn source(&self, p: &Particles<D>, k: usize) -> StressSource<D> {
+        let (density_scale, stress_scale) = self.geometry.scales(p, k);
+        let density = p.density[k] * density_scale;
+        let stress = p.deviatoric_stress[k] * stress_scale;
+        StressSource {
+            position: p.position[k],
+            smoothing_length: p.smoothing_length[k],
+            mass: p.mass[k],
+            density,
+            stress_factor: if self.volume_form {
+                stress / density
+            } else {
+                stress / (p.omega.get(k).copied().unwrap_or(1.0) * density * density)
+            },
+            is_wall: p.image(k).is_some_and(|im| im.is_wall),
+            velocity: p.velocity[k],
+            // R = −εσ'/ρ² of the particle's own tensile stress, seen as a ring flux over η²
+            artificial: match self.artificial_stress {
+                Some(a) if self.shear_modulus[p.material_of(k)] > 0.0 => {
+                    artificial_stress_of(
+                        p.pressure[k],
+                        &p.deviatoric_stress[k],
+                        p.density[k],
+                        a.epsilon,
+                    ) * (stress_scale / (density_scale * density_scale))
+                }
+                _ => Tensor::zeros(),
+            },
+            spacing: (p.mass[k] / density).powf(1.0 / D as f64),
+        }
+    }
+
+    fn start(&self, _: &StressSource<D>) -> Self::Sum {
+        (Vector::zeros(), Vector::zeros(), 0.0)
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        (acceleration, wall, heating): &mut Self::Sum,
+        me: &StressSource<D>,
+        other: &StressSource<D>,
+        _: &(),
+    ) {
+        let dx = me.position - other.position;
+        let r = dx.norm();
+        if r == 0.0 {
+            return;
+        }
+        let partner = |other: &StressSource<D>| {
+            if self.volume_form {
+                1.0 / other.density
+            } else {
+                1.0
+            }
+        };
+        let (dw_i, dw_j) = self.pair_kernel.derivatives(
+            self.kernel,
+            r,
+            me.smoothing_length,
+            other.smoothing_length,
+        );
+        let mut force = (me.stress_factor * (partner(other) * dw_i)
+            + other.stress_factor * (partner(me) * dw_j))
+            * (dx / r)
+            * other.mass;
+        if let Some(artificial_stress) = self.artificial_stress {
+            let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+            let f =
+                self.kernel.value(r, h) / self.kernel.value(0.5 * (me.spacing + other.spacing), h);
+            let repulsion = (me.artificial + other.artificial)
+                * (dx * (f.powf(artificial_stress.exponent) * 0.5 * (dw_i + dw_j) / r))
+                * other.mass;
+            force += repulsion;
+            *heating -= 0.5 * repulsion.dot(&(me.velocity - other.velocity));
+        }
+        *acceleration += force;
+        if other.is_wall {
+            *wall += force * me.mass;
+        }
+    }
+
+    fn finish(&self, _: &StressSource<D>, sum: Self::Sum) -> Self::Sum {
+        sum
+    }
+}
+
 /// The deviatoric-stress part of the solid equations, added to the rates `compute_rates` left
 /// (the seed's σ = −p I + s forms): Dv_i/Dt += Σ_j m_j (s_i/ρ_i² + s_j/ρ_j²)·∇_i W_ij (or the
 /// volume form (s_i + s_j)/(ρ_i ρ_j)), De_i/Dt += s_i:ε̇_i/ρ_i, and the Jaumann stress rate from
@@ -933,89 +1099,15 @@ pub fn add_stress_rates<const D: usize>(
     geometry: PairGeometry,
     hoop_rate: Option<&[f64]>,
 ) -> RateTotals<D> {
-    let n = particles.n_real();
-    let p = &*particles;
-    let volume_form = !p.density_rate.is_empty();
-    let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
-    let sources: Vec<StressSource<D>> = (0..p.len())
-        .into_par_iter()
-        .map(|k| {
-            let (density_scale, stress_scale) = geometry.scales(p, k);
-            let density = p.density[k] * density_scale;
-            let stress = p.deviatoric_stress[k] * stress_scale;
-            StressSource {
-                position: p.position[k],
-                smoothing_length: p.smoothing_length[k],
-                mass: p.mass[k],
-                density,
-                stress_factor: if volume_form {
-                    stress / density
-                } else {
-                    stress / (omega(k) * density * density)
-                },
-                is_wall: p.image(k).is_some_and(|im| im.is_wall),
-                velocity: p.velocity[k],
-                // R = −εσ'/ρ² of the particle's own tensile stress, seen as a ring flux over η²
-                artificial: match artificial_stress {
-                    Some(a) if shear_modulus[p.material_of(k)] > 0.0 => {
-                        artificial_stress_of(
-                            p.pressure[k],
-                            &p.deviatoric_stress[k],
-                            p.density[k],
-                            a.epsilon,
-                        ) * (stress_scale / (density_scale * density_scale))
-                    }
-                    _ => Tensor::zeros(),
-                },
-                spacing: (p.mass[k] / density).powf(1.0 / D as f64),
-            }
-        })
-        .collect();
-    let exponent = artificial_stress.map_or(0.0, |a| a.exponent);
-    let partner = |other: &StressSource<D>| {
-        if volume_form {
-            1.0 / other.density
-        } else {
-            1.0
-        }
+    let equation = StressForces {
+        kernel,
+        pair_kernel,
+        volume_form: !particles.density_rate.is_empty(),
+        shear_modulus,
+        artificial_stress,
+        geometry,
     };
-    let rates: Vec<(Vector<D>, Vector<D>, f64)> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            let me = &sources[i];
-            let (mut acceleration, mut wall) = (Vector::<D>::zeros(), Vector::<D>::zeros());
-            let mut heating = 0.0;
-            for j in neighbours.of(i) {
-                let other = &sources[j];
-                let dx = me.position - other.position;
-                let r = dx.norm();
-                if r == 0.0 {
-                    continue;
-                }
-                let (dw_i, dw_j) =
-                    pair_kernel.derivatives(kernel, r, me.smoothing_length, other.smoothing_length);
-                let mut force = (me.stress_factor * (partner(other) * dw_i)
-                    + other.stress_factor * (partner(me) * dw_j))
-                    * (dx / r)
-                    * other.mass;
-                if artificial_stress.is_some() {
-                    let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-                    let f =
-                        kernel.value(r, h) / kernel.value(0.5 * (me.spacing + other.spacing), h);
-                    let repulsion = (me.artificial + other.artificial)
-                        * (dx * (f.powf(exponent) * 0.5 * (dw_i + dw_j) / r))
-                        * other.mass;
-                    force += repulsion;
-                    heating -= 0.5 * repulsion.dot(&(me.velocity - other.velocity));
-                }
-                acceleration += force;
-                if other.is_wall {
-                    wall += force * me.mass;
-                }
-            }
-            (acceleration, wall, heating)
-        })
-        .collect();
+    let rates = pairs::gather(&equation, particles, neighbours);
     let p = particles;
     let mut totals = RateTotals::default();
     for (i, (acceleration, wall, heating)) in rates.into_iter().enumerate() {

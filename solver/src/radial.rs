@@ -21,10 +21,10 @@
 
 use crate::kernel::{Kernel, KernelShape};
 use crate::neighbours::NeighbourList;
+use crate::pairs::{self, PairEquation};
 use crate::particles::Particles;
 use crate::physics::{signal_speed, ArtificialViscosity, EnergyEquation};
 use crate::Vector;
-use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The symmetry of a scene.
@@ -253,21 +253,66 @@ pub fn radial_density<const D: usize>(
     neighbours: &NeighbourList,
     kernel: &RadialKernel,
 ) {
-    let p = &*particles;
-    let density: Vec<f64> = (0..p.n_real())
-        .into_par_iter()
-        .map(|i| {
-            let (r_i, h_i) = (p.position[i][0], p.smoothing_length[i]);
-            neighbours.of(i).fold(
-                p.mass[i] * kernel.value_and_derivatives(r_i, r_i, h_i).0,
-                |rho, j| {
-                    let h = 0.5 * (h_i + p.smoothing_length[j]);
-                    rho + p.mass[j] * kernel.value_and_derivatives(r_i, p.position[j][0], h).0
-                },
-            )
-        })
-        .collect();
+    let density = pairs::gather(&RadialDensity { kernel }, particles, neighbours);
     particles.density[..density.len()].copy_from_slice(&density);
+}
+
+/// What the radial passes read of a neighbour.
+struct ShellSource {
+    radius: f64,
+    velocity: f64,
+    smoothing_length: f64,
+    mass: f64,
+    density: f64,
+    sound_speed: f64,
+    /// P = p/ρ².
+    pressure_term: f64,
+}
+
+fn shell_source<const D: usize>(p: &Particles<D>, k: usize) -> ShellSource {
+    ShellSource {
+        radius: p.position[k][0],
+        velocity: p.velocity[k][0],
+        smoothing_length: p.smoothing_length[k],
+        mass: p.mass[k],
+        density: p.density[k],
+        sound_speed: p.sound_speed[k],
+        pressure_term: p.pressure[k] / (p.density[k] * p.density[k]),
+    }
+}
+
+/// The pass of [`radial_density`].
+struct RadialDensity<'a> {
+    kernel: &'a RadialKernel,
+}
+
+impl<const D: usize> PairEquation<D> for RadialDensity<'_> {
+    type Source = ShellSource;
+    type Sum = f64;
+    type Output = f64;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> ShellSource {
+        shell_source(p, k)
+    }
+
+    fn start(&self, me: &ShellSource) -> f64 {
+        let (r_i, h_i) = (me.radius, me.smoothing_length);
+        me.mass * self.kernel.value_and_derivatives(r_i, r_i, h_i).0
+    }
+
+    #[inline]
+    fn pair(&self, rho: &mut f64, me: &ShellSource, other: &ShellSource, _: &()) {
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        *rho += other.mass
+            * self
+                .kernel
+                .value_and_derivatives(me.radius, other.radius, h)
+                .0;
+    }
+
+    fn finish(&self, _: &ShellSource, rho: f64) -> f64 {
+        rho
+    }
 }
 
 /// Radial momentum and energy rates (P = p/ρ², d₁ = ∂W̃_ij/∂r_i, d₂ = ∂W̃_ij/∂r_j,
@@ -284,55 +329,83 @@ pub fn radial_rates<const D: usize>(
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
 ) {
-    let p = &*particles;
-    let pressure_term: Vec<f64> = (0..p.len())
-        .map(|k| p.pressure[k] / (p.density[k] * p.density[k]))
-        .collect();
-    let rates: Vec<(f64, f64, f64)> = (0..p.n_real())
-        .into_par_iter()
-        .map(|i| {
-            let (r_i, v_i, h_i, m_i) = (
-                p.position[i][0],
-                p.velocity[i][0],
-                p.smoothing_length[i],
-                p.mass[i],
-            );
-            let own = pressure_term[i];
-            let self_slope = kernel.self_derivative(r_i, h_i);
-            let mut acceleration = -m_i * own * self_slope;
-            let mut heating = own * m_i * v_i * self_slope;
-            let mut v_sig = p.sound_speed[i];
-            for j in neighbours.of(i) {
-                let (r_j, v_j, m_j) = (p.position[j][0], p.velocity[j][0], p.mass[j]);
-                let h = 0.5 * (h_i + p.smoothing_length[j]);
-                let (_, d1, d2) = kernel.value_and_derivatives(r_i, r_j, h);
-                let g = 0.5 * (d1 - d2);
-                let (x_ij, v_ij) = (r_i - r_j, v_i - v_j);
-                let c_mean = 0.5 * (p.sound_speed[i] + p.sound_speed[j]);
-                let rho_mean = 0.5 * (p.density[i] + p.density[j]);
-                let pi_ij = viscosity.pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean);
-                let pressure_sum = own + pressure_term[j];
-                acceleration -= m_j * (pressure_sum * d1 + pi_ij * g);
-                let compression = m_j * (v_i * d1 + v_j * d2);
-                heating += match energy {
-                    EnergyEquation::OwnPressure => own * compression,
-                    EnergyEquation::Symmetric => 0.5 * pressure_sum * compression,
-                } + 0.5 * m_j * pi_ij * v_ij * g;
-                let approach = if x_ij == 0.0 {
-                    0.0
-                } else {
-                    v_ij * x_ij.signum()
-                };
-                v_sig = v_sig.max(signal_speed(p.sound_speed[i], p.sound_speed[j], approach));
-            }
-            (acceleration, heating, v_sig)
-        })
-        .collect();
+    let equation = RadialRates {
+        kernel,
+        viscosity,
+        energy,
+    };
+    let rates = pairs::gather(&equation, particles, neighbours);
     let p = particles;
     for (i, (acceleration, heating, v_sig)) in rates.into_iter().enumerate() {
         p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { acceleration } else { 0.0 });
         p.energy_rate[i] = heating;
         p.signal_speed[i] = v_sig;
+    }
+}
+
+/// The pass of [`radial_rates`]: per real particle Dv/Dt, De/Dt and the signal speed.
+struct RadialRates<'a> {
+    kernel: &'a RadialKernel,
+    viscosity: &'a ArtificialViscosity,
+    energy: EnergyEquation,
+}
+
+impl<const D: usize> PairEquation<D> for RadialRates<'_> {
+    type Source = ShellSource;
+    type Sum = (f64, f64, f64);
+    type Output = (f64, f64, f64);
+
+    fn source(&self, p: &Particles<D>, k: usize) -> ShellSource {
+        shell_source(p, k)
+    }
+
+    /// The shell's force on itself: its self term m_i W̃(r_i, r_i; h_i) depends on r_i.
+    fn start(&self, me: &ShellSource) -> Self::Sum {
+        let (own, m_i) = (me.pressure_term, me.mass);
+        let self_slope = self.kernel.self_derivative(me.radius, me.smoothing_length);
+        (
+            -m_i * own * self_slope,
+            own * m_i * me.velocity * self_slope,
+            me.sound_speed,
+        )
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        (acceleration, heating, v_sig): &mut Self::Sum,
+        me: &ShellSource,
+        other: &ShellSource,
+        _: &(),
+    ) {
+        let (r_i, v_i, own) = (me.radius, me.velocity, me.pressure_term);
+        let (r_j, v_j, m_j) = (other.radius, other.velocity, other.mass);
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        let (_, d1, d2) = self.kernel.value_and_derivatives(r_i, r_j, h);
+        let g = 0.5 * (d1 - d2);
+        let (x_ij, v_ij) = (r_i - r_j, v_i - v_j);
+        let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
+        let rho_mean = 0.5 * (me.density + other.density);
+        let pi_ij = self
+            .viscosity
+            .pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean);
+        let pressure_sum = own + other.pressure_term;
+        *acceleration -= m_j * (pressure_sum * d1 + pi_ij * g);
+        let compression = m_j * (v_i * d1 + v_j * d2);
+        *heating += match self.energy {
+            EnergyEquation::OwnPressure => own * compression,
+            EnergyEquation::Symmetric => 0.5 * pressure_sum * compression,
+        } + 0.5 * m_j * pi_ij * v_ij * g;
+        let approach = if x_ij == 0.0 {
+            0.0
+        } else {
+            v_ij * x_ij.signum()
+        };
+        *v_sig = v_sig.max(signal_speed(me.sound_speed, other.sound_speed, approach));
+    }
+
+    fn finish(&self, _: &ShellSource, sum: Self::Sum) -> Self::Sum {
+        sum
     }
 }
 

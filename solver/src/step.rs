@@ -17,6 +17,7 @@ use crate::eos::Material;
 use crate::error::SolverError;
 use crate::kernel::{Kernel, KernelShape};
 use crate::neighbours::{find_neighbours, CellGrid, NeighbourList, PairReach};
+use crate::pairs;
 use crate::particles::{OptionalFields, ParticleInit, Particles};
 use crate::physics::{
     self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, RateTotals,
@@ -748,7 +749,14 @@ impl<const D: usize> Simulation<D> {
         } else if self.config.density == DensityMethod::Summation
             && !matches!(self.config.smoothing, SmoothingLength::GradH { .. })
         {
-            physics::summation_density(p, &self.neighbours, &self.kernel);
+            let density = pairs::gather(
+                &physics::SummationDensity {
+                    kernel: &self.kernel,
+                },
+                p,
+                &self.neighbours,
+            );
+            p.density[..density.len()].copy_from_slice(&density);
         }
         for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
             *peak = peak.max(*rho);

@@ -42,11 +42,11 @@ use crate::boundary::Domain;
 use crate::eos::Material;
 use crate::kernel::Kernel;
 use crate::neighbours::{find_neighbours, PairReach};
+use crate::pairs::{self, PairEquation, Partners};
 use crate::particles::{mirrored, Particles};
 use crate::physics::{ArtificialViscosity, RateTotals};
 use crate::strength::{equivalent_strain_rate, jaumann_rate};
 use crate::{SolverError, Tensor, Vector};
-use rayon::prelude::*;
 
 /// How solids are discretised.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,9 +120,22 @@ struct Kinematics<const D: usize> {
     deformation_rate: Tensor<D>,
 }
 
+/// What the force loop needs of a particle beyond the particle store: its stress, deformation
+/// and Young's modulus at this evaluation.
+#[derive(Clone, Copy, Debug)]
+struct PiolaState<const D: usize> {
+    /// P_i L_i.
+    corrected_stress: Tensor<D>,
+    deformation: Tensor<D>,
+    young: f64,
+}
+
 /// What a particle's neighbours read of it in the force loop.
 #[derive(Clone, Copy, Debug)]
 struct StressSource<const D: usize> {
+    index: usize,
+    position: Vector<D>,
+    velocity: Vector<D>,
     /// P_i L_i.
     corrected_stress: Tensor<D>,
     deformation: Tensor<D>,
@@ -211,29 +224,9 @@ impl<const D: usize> ReferenceConfiguration<D> {
         &self.bonds[self.offsets[i]..self.offsets[i + 1]]
     }
 
-    /// F, Ḟ and the least stretch of every particle's neighbourhood.
+    /// F and Ḟ of every particle's neighbourhood.
     fn kinematics(&self, p: &Particles<D>) -> Vec<Kinematics<D>> {
-        (0..self.volume.len())
-            .into_par_iter()
-            .map(|i| {
-                let mut separation_sum = Tensor::<D>::zeros();
-                let mut velocity_sum = Tensor::<D>::zeros();
-                for bond in self.bonds_of(i) {
-                    let k = bond.other as usize;
-                    let x_ij =
-                        bond.reflection.component_mul(&p.position[k]) + bond.offset - p.position[i];
-                    let v_ij = bond.reflection.component_mul(&p.velocity[k]) - p.velocity[i];
-                    let weighted = bond.kernel_gradient.transpose() * bond.volume;
-                    separation_sum += x_ij * weighted;
-                    velocity_sum += v_ij * weighted;
-                }
-                let l_transposed = self.correction[i].transpose();
-                Kinematics {
-                    deformation: separation_sum * l_transposed,
-                    deformation_rate: velocity_sum * l_transposed,
-                }
-            })
-            .collect()
+        pairs::gather(&Deformation { reference: self }, p, &Bonds(self))
     }
 
     /// Density, pressure, sound speed, stress rate and the forces and energy rates of every
@@ -248,7 +241,7 @@ impl<const D: usize> ReferenceConfiguration<D> {
     ) -> Result<RateTotals<D>, (usize, &'static str, f64)> {
         let n = self.volume.len();
         let kinematics = self.kinematics(p);
-        let mut sources = Vec::with_capacity(n);
+        let mut states = Vec::with_capacity(n);
         let mut viscous_heating = 0.0;
         for (i, kin) in kinematics.iter().enumerate() {
             let jacobian = determinant(&kin.deformation);
@@ -289,55 +282,18 @@ impl<const D: usize> ReferenceConfiguration<D> {
             let piola = cauchy * inverse.transpose() * jacobian;
             p.energy_rate[i] =
                 self.volume[i] * piola.component_mul(&kin.deformation_rate).sum() / p.mass[i];
-            sources.push(StressSource {
+            states.push(PiolaState {
                 corrected_stress: piola * self.correction[i],
                 deformation: kin.deformation,
                 young,
             });
         }
-        let p_read = &*p;
-        let rates: Vec<(Vector<D>, Vector<D>, f64, f64)> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                let me = &sources[i];
-                let (mut force, mut wall) = (Vector::<D>::zeros(), Vector::<D>::zeros());
-                let (mut heating, mut approach) = (0.0, 0.0f64);
-                for bond in self.bonds_of(i) {
-                    let k = bond.other as usize;
-                    let other = &sources[k];
-                    let x_ij = bond.reflection.component_mul(&p_read.position[k]) + bond.offset
-                        - p_read.position[i];
-                    let v_ij =
-                        bond.reflection.component_mul(&p_read.velocity[k]) - p_read.velocity[i];
-                    // an image's tensors are its source's seen in the mirror (S A S)
-                    let stress_j = mirrored(&other.corrected_stress, &bond.reflection);
-                    let deformation_j = mirrored(&other.deformation, &bond.reflection);
-                    let mut pair = (me.corrected_stress + stress_j)
-                        * bond.kernel_gradient
-                        * (self.volume[i] * bond.volume);
-                    let r = x_ij.norm();
-                    if hourglass > 0.0 && r > 0.0 {
-                        let unit = x_ij / r;
-                        let predicted = 0.5 * (me.deformation + deformation_j) * bond.separation;
-                        let stretch = (x_ij - predicted).dot(&unit);
-                        let modulus = 0.5 * (me.young + other.young);
-                        let restoring =
-                            unit * (hourglass * modulus * bond.hourglass_stiffness * stretch);
-                        pair += restoring;
-                        // −f·(v_i − v_j), half of it to each of the pair
-                        heating += 0.5 * restoring.dot(&v_ij);
-                    }
-                    if r > 0.0 {
-                        approach = approach.max(-v_ij.dot(&x_ij) / r);
-                    }
-                    force += pair;
-                    if bond.is_wall {
-                        wall += pair;
-                    }
-                }
-                (force, wall, heating, approach)
-            })
-            .collect();
+        let forces = PiolaForces {
+            volume: &self.volume,
+            states: &states,
+            hourglass,
+        };
+        let rates = pairs::gather(&forces, p, &Bonds(self));
         let mut totals = RateTotals::default();
         for (i, (force, wall, heating, approach)) in rates.into_iter().enumerate() {
             p.acceleration[i] = force / p.mass[i];
@@ -348,6 +304,141 @@ impl<const D: usize> ReferenceConfiguration<D> {
         }
         totals.viscous_heating = viscous_heating;
         Ok(totals)
+    }
+}
+
+/// The bonds as the pair driver's partners: each carries its reference data.
+struct Bonds<'a, const D: usize>(&'a ReferenceConfiguration<D>);
+
+impl<const D: usize> Partners for Bonds<'_, D> {
+    type Link = Bond<D>;
+
+    #[inline]
+    fn visit(&self, i: usize, mut visit: impl FnMut(usize, &Bond<D>)) {
+        for bond in self.0.bonds_of(i) {
+            visit(bond.other as usize, bond);
+        }
+    }
+}
+
+/// The deformation gradient F_i = (Σ_j V_j x_ij ⊗ ∇W_ij) L_i and its rate Ḟ_i from v_ij, with
+/// x_ij and v_ij of a mirrored bond seen through its reflection.
+struct Deformation<'a, const D: usize> {
+    reference: &'a ReferenceConfiguration<D>,
+}
+
+impl<const D: usize> PairEquation<D, Bond<D>> for Deformation<'_, D> {
+    /// Index, position and velocity.
+    type Source = (usize, Vector<D>, Vector<D>);
+    /// Σ V_j x_ij ⊗ ∇W_ij and Σ V_j v_ij ⊗ ∇W_ij.
+    type Sum = (Tensor<D>, Tensor<D>);
+    type Output = Kinematics<D>;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> Self::Source {
+        (k, p.position[k], p.velocity[k])
+    }
+
+    fn start(&self, _: &Self::Source) -> Self::Sum {
+        (Tensor::zeros(), Tensor::zeros())
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        (separation_sum, velocity_sum): &mut Self::Sum,
+        &(_, x_i, v_i): &Self::Source,
+        &(_, x_k, v_k): &Self::Source,
+        bond: &Bond<D>,
+    ) {
+        let x_ij = bond.reflection.component_mul(&x_k) + bond.offset - x_i;
+        let v_ij = bond.reflection.component_mul(&v_k) - v_i;
+        let weighted = bond.kernel_gradient.transpose() * bond.volume;
+        *separation_sum += x_ij * weighted;
+        *velocity_sum += v_ij * weighted;
+    }
+
+    fn finish(
+        &self,
+        &(i, _, _): &Self::Source,
+        (separation, velocity): Self::Sum,
+    ) -> Kinematics<D> {
+        let l_transposed = self.reference.correction[i].transpose();
+        Kinematics {
+            deformation: separation * l_transposed,
+            deformation_rate: velocity * l_transposed,
+        }
+    }
+}
+
+/// The first Piola–Kirchhoff pair forces V_i V_j (P_i L_i + P_j L_j) ∇W_ij with
+/// Ganzenmüller's hourglass control: per particle the force, the part of it the walls exert,
+/// the hourglass heat and the fastest approach of a partner.
+struct PiolaForces<'a, const D: usize> {
+    volume: &'a [f64],
+    states: &'a [PiolaState<D>],
+    /// The hourglass coefficient (0: off).
+    hourglass: f64,
+}
+
+impl<const D: usize> PairEquation<D, Bond<D>> for PiolaForces<'_, D> {
+    type Source = StressSource<D>;
+    type Sum = (Vector<D>, Vector<D>, f64, f64);
+    type Output = Self::Sum;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> StressSource<D> {
+        let state = &self.states[k];
+        StressSource {
+            index: k,
+            position: p.position[k],
+            velocity: p.velocity[k],
+            corrected_stress: state.corrected_stress,
+            deformation: state.deformation,
+            young: state.young,
+        }
+    }
+
+    fn start(&self, _: &StressSource<D>) -> Self::Sum {
+        (Vector::zeros(), Vector::zeros(), 0.0, 0.0)
+    }
+
+    #[inline]
+    fn pair(
+        &self,
+        (force, wall, heating, approach): &mut Self::Sum,
+        me: &StressSource<D>,
+        other: &StressSource<D>,
+        bond: &Bond<D>,
+    ) {
+        let x_ij = bond.reflection.component_mul(&other.position) + bond.offset - me.position;
+        let v_ij = bond.reflection.component_mul(&other.velocity) - me.velocity;
+        // an image's tensors are its source's seen in the mirror (S A S)
+        let stress_j = mirrored(&other.corrected_stress, &bond.reflection);
+        let deformation_j = mirrored(&other.deformation, &bond.reflection);
+        let mut pair = (me.corrected_stress + stress_j)
+            * bond.kernel_gradient
+            * (self.volume[me.index] * bond.volume);
+        let r = x_ij.norm();
+        if self.hourglass > 0.0 && r > 0.0 {
+            let unit = x_ij / r;
+            let predicted = 0.5 * (me.deformation + deformation_j) * bond.separation;
+            let stretch = (x_ij - predicted).dot(&unit);
+            let modulus = 0.5 * (me.young + other.young);
+            let restoring = unit * (self.hourglass * modulus * bond.hourglass_stiffness * stretch);
+            pair += restoring;
+            // −f·(v_i − v_j), half of it to each of the pair
+            *heating += 0.5 * restoring.dot(&v_ij);
+        }
+        if r > 0.0 {
+            *approach = approach.max(-v_ij.dot(&x_ij) / r);
+        }
+        *force += pair;
+        if bond.is_wall {
+            *wall += pair;
+        }
+    }
+
+    fn finish(&self, _: &StressSource<D>, sum: Self::Sum) -> Self::Sum {
+        sum
     }
 }
 

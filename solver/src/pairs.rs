@@ -1,0 +1,95 @@
+//! The pair driver: how pairs are enumerated, apart from what one pair contributes.
+//!
+//! An equation ([`PairEquation`]) says what it reads of a particle (its `Source`, packed once
+//! per pass for every particle and image, so that a pair touches one or two cache lines rather
+//! than one per field), what it sums for a real particle (`Sum`, started from the particle's own
+//! source), what one partner adds to that sum, and how the sum is finished. The driver
+//! ([`gather`]) visits each real particle's partners in the order of its list, in parallel over
+//! particles: each sum is accumulated in one fixed order, so the result is bitwise the same for
+//! any number of threads.
+//!
+//! Partners come from a [`Partners`] enumeration: the step's neighbour lists (a pair is then
+//! the two particles alone), or bonds fixed at the start (total-Lagrangian solids), where each
+//! pair also carries the bond's reference data (its `Link`).
+
+use crate::neighbours::NeighbourList;
+use crate::particles::Particles;
+use rayon::prelude::*;
+
+/// Who each real particle's partners are, and what a pair carries besides the two particles.
+pub trait Partners: Sync {
+    /// The data of one pair (`()` for plain neighbours).
+    type Link;
+    /// Calls `visit(j, link)` for each partner j of real particle i, in a fixed order.
+    fn visit(&self, i: usize, visit: impl FnMut(usize, &Self::Link));
+}
+
+impl Partners for NeighbourList {
+    type Link = ();
+
+    #[inline]
+    fn visit(&self, i: usize, mut visit: impl FnMut(usize, &())) {
+        for part in self.parts(i) {
+            for &j in part {
+                visit(j as usize, &());
+            }
+        }
+    }
+}
+
+/// What one pair contributes to a real particle's sum, and how that sum starts and ends.
+pub trait PairEquation<const D: usize, Link = ()>: Sync {
+    /// What the equation reads of a particle.
+    type Source: Send + Sync;
+    /// What it accumulates for a real particle.
+    type Sum;
+    /// What the pass returns per real particle.
+    type Output: Send;
+
+    /// Particle (or image) k as its partners see it.
+    fn source(&self, particles: &Particles<D>, k: usize) -> Self::Source;
+    /// The sum before any partner: zero, or the particle's own term.
+    fn start(&self, me: &Self::Source) -> Self::Sum;
+    /// Adds partner `other`'s contribution to `me`'s sum.
+    fn pair(&self, sum: &mut Self::Sum, me: &Self::Source, other: &Self::Source, link: &Link);
+    /// The per-particle result from the completed sum.
+    fn finish(&self, me: &Self::Source, sum: Self::Sum) -> Self::Output;
+}
+
+/// Every particle's and image's source for `equation`.
+pub fn sources<const D: usize, L, E: PairEquation<D, L>>(
+    equation: &E,
+    particles: &Particles<D>,
+) -> Vec<E::Source> {
+    (0..particles.len())
+        .into_par_iter()
+        .map(|k| equation.source(particles, k))
+        .collect()
+}
+
+/// Real particle i's sum over its partners, from sources packed by [`sources`].
+#[inline]
+pub fn sum_at<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
+    equation: &E,
+    sources: &[E::Source],
+    partners: &P,
+    i: usize,
+) -> E::Output {
+    let me = &sources[i];
+    let mut sum = equation.start(me);
+    partners.visit(i, |j, link| equation.pair(&mut sum, me, &sources[j], link));
+    equation.finish(me, sum)
+}
+
+/// The equation's output for every real particle.
+pub fn gather<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
+    equation: &E,
+    particles: &Particles<D>,
+    partners: &P,
+) -> Vec<E::Output> {
+    let sources = sources(equation, particles);
+    (0..particles.n_real())
+        .into_par_iter()
+        .map(|i| sum_at(equation, &sources, partners, i))
+        .collect()
+}
