@@ -17,53 +17,164 @@ pub struct Image<const D: usize> {
     pub is_wall: bool,
 }
 
-#[derive(Clone, Debug, Default)]
-pub struct Particles<const D: usize> {
-    pub position: Vec<Vector<D>>,
-    pub velocity: Vec<Vector<D>>,
-    pub mass: Vec<f64>,
-    pub smoothing_length: Vec<f64>,
-    pub density: Vec<f64>,
-    pub internal_energy: Vec<f64>,
-    pub pressure: Vec<f64>,
-    pub sound_speed: Vec<f64>,
-    /// Material index per particle; empty when the scene has a single material (index 0).
-    pub material: Vec<u16>,
-    /// The particle's label at creation, kept through reordering (for outputs and diagnoses).
-    pub id: Vec<u32>,
-    // Rates of the last force evaluation (real particles only).
-    pub acceleration: Vec<Vector<D>>,
-    pub energy_rate: Vec<f64>,
-    /// Dρ/Dt; empty unless density is integrated by the continuity equation.
-    pub density_rate: Vec<f64>,
-    /// The grad-h correction Ω_i = 1 − (∂h_i/∂ρ_i) Σ_j m_j ∂W_ij(h_i)/∂h_i (real particles and
-    /// images); empty unless h is solved with the density (grad-h).
-    pub omega: Vec<f64>,
-    /// Dh/Dt from the last force evaluation, which predicts the next step's h; empty unless
-    /// grad-h.
-    pub smoothing_rate: Vec<f64>,
-    /// The highest density each particle has reached (real particles only); empty unless a
-    /// material's pressure depends on it (compaction).
-    pub peak_density: Vec<f64>,
-    /// Solids: the deviatoric stress (in-plane block, real particles and images), its rate, the
-    /// equivalent plastic strain and the plastic work per unit mass (real particles); empty
-    /// unless some material has strength.
-    pub deviatoric_stress: Vec<Tensor<D>>,
-    pub stress_rate: Vec<Tensor<D>>,
-    pub plastic_strain: Vec<f64>,
-    pub plastic_work: Vec<f64>,
-    /// The equivalent strain rate √(2/3 ė':ė') of the last force evaluation (solids).
-    pub strain_rate: Vec<f64>,
-    /// Programmed burn: each particle's lighting time (−∞ where it is not explosive) and burn
-    /// fraction F (its pressure is F·p_EOS); empty without a burn.
-    pub lighting_time: Vec<f64>,
-    pub burn_fraction: Vec<f64>,
-    /// Largest pair signal speed seen by each particle in the last force evaluation.
-    pub signal_speed: Vec<f64>,
-    /// Each real particle's own viscosity α (Morris & Monaghan's switch); empty without it.
-    pub viscosity_alpha: Vec<f64>,
+/// Declares the particle store once: the fields that images carry (copied from their source,
+/// seen through the mirror) and the fields of real particles alone. Every field is a `Vec`,
+/// empty where the scene does not need it; `permute`, `clear_images`, `push_image` and
+/// `refresh_image_state` visit the lists this macro makes, so a new field cannot be missed by
+/// any of them.
+macro_rules! particle_store {
+    (
+        imaged { $( $(#[$imaged_doc:meta])* $imaged:ident : $imaged_type:ty => $seen:expr, )* }
+        real { $( $(#[$real_doc:meta])* $real:ident : $real_type:ty, )* }
+    ) => {
+        #[derive(Clone, Debug, Default)]
+        pub struct Particles<const D: usize> {
+            /// Positions of real particles and images (an image's is set by its boundary).
+            pub position: Vec<Vector<D>>,
+            $( $(#[$imaged_doc])* pub $imaged: Vec<$imaged_type>, )*
+            $( $(#[$real_doc])* pub $real: Vec<$real_type>, )*
+            n_real: usize,
+            images: Vec<Image<D>>,
+        }
+
+        impl<const D: usize> Particles<D> {
+            /// Visits every field that images carry, except the position.
+            fn visit_imaged(&mut self, visitor: &mut impl ImagedFieldVisitor<D>) {
+                $( visitor.visit(&mut self.$imaged, $seen); )*
+            }
+
+            /// Visits every field, the position included.
+            fn visit_all(&mut self, visitor: &mut impl FieldVisitor) {
+                visitor.visit(&mut self.position);
+                $( visitor.visit(&mut self.$imaged); )*
+                $( visitor.visit(&mut self.$real); )*
+            }
+        }
+    };
+}
+
+particle_store! {
+    imaged {
+        velocity: Vector<D> => flipped,
+        mass: f64 => same,
+        smoothing_length: f64 => same,
+        density: f64 => same,
+        internal_energy: f64 => same,
+        pressure: f64 => same,
+        sound_speed: f64 => same,
+        /// The grad-h correction Ω_i = 1 − (∂h_i/∂ρ_i) Σ_j m_j ∂W_ij(h_i)/∂h_i; empty unless h
+        /// is solved with the density (grad-h).
+        omega: f64 => same,
+        /// Solids: the deviatoric stress (in-plane block); empty unless some material has
+        /// strength.
+        deviatoric_stress: Tensor<D> => mirrored,
+    }
+    real {
+        /// Material index per particle; empty when the scene has a single material (index 0).
+        material: u16,
+        /// The particle's label at creation, kept through reordering (for outputs and
+        /// diagnoses).
+        id: u32,
+        /// Dv/Dt of the last force evaluation.
+        acceleration: Vector<D>,
+        /// De/Dt of the last force evaluation.
+        energy_rate: f64,
+        /// Dρ/Dt; empty unless density is integrated by the continuity equation.
+        density_rate: f64,
+        /// Dh/Dt from the last force evaluation, which predicts the next step's h; empty unless
+        /// grad-h.
+        smoothing_rate: f64,
+        /// The highest density each particle has reached; empty unless a material's pressure
+        /// depends on it (compaction).
+        peak_density: f64,
+        /// Solids: the rate of the deviatoric stress, the equivalent plastic strain and the
+        /// plastic work per unit mass.
+        stress_rate: Tensor<D>,
+        plastic_strain: f64,
+        plastic_work: f64,
+        /// The equivalent strain rate √(2/3 ė':ė') of the last force evaluation (solids).
+        strain_rate: f64,
+        /// Programmed burn: each particle's lighting time (−∞ where it is not explosive) and burn
+        /// fraction F (its pressure is F·p_EOS); empty without a burn.
+        lighting_time: f64,
+        burn_fraction: f64,
+        /// Largest pair signal speed seen by each particle in the last force evaluation.
+        signal_speed: f64,
+        /// Each particle's own viscosity α (Morris & Monaghan's switch); empty without it.
+        viscosity_alpha: f64,
+    }
+}
+
+/// Something done to every field alike (reordering, truncating).
+trait FieldVisitor {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>);
+}
+
+/// Something done to every field an image carries; `seen` is how an image whose velocity
+/// components flip with `sign` sees its source's value.
+trait ImagedFieldVisitor<const D: usize> {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>, seen: fn(&T, &Vector<D>) -> T);
+}
+
+/// A scalar, the same from every side.
+fn same<T: Copy, const D: usize>(value: &T, _: &Vector<D>) -> T {
+    *value
+}
+
+/// A vector whose components flip with the mirror.
+fn flipped<const D: usize>(value: &Vector<D>, sign: &Vector<D>) -> Vector<D> {
+    value.component_mul(sign)
+}
+
+/// Keeps the first `n` entries of every field.
+struct Truncate(usize);
+
+impl FieldVisitor for Truncate {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>) {
+        field.truncate(self.0);
+    }
+}
+
+/// Reorders every present field so that new index k holds old index `order[k]`.
+struct Reorder<'a>(&'a [usize]);
+
+impl FieldVisitor for Reorder<'_> {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>) {
+        if !field.is_empty() {
+            *field = self.0.iter().map(|&k| field[k]).collect();
+        }
+    }
+}
+
+/// Appends to every present field an image of entry `source` seen through `sign`.
+struct AppendImage<const D: usize> {
+    source: usize,
+    sign: Vector<D>,
+}
+
+impl<const D: usize> ImagedFieldVisitor<D> for AppendImage<D> {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>, seen: fn(&T, &Vector<D>) -> T) {
+        if !field.is_empty() {
+            field.push(seen(&field[self.source], &self.sign));
+        }
+    }
+}
+
+/// Copies every present field of each real particle onto its images.
+struct RefreshImages<'a, const D: usize> {
     n_real: usize,
-    images: Vec<Image<D>>,
+    images: &'a [Image<D>],
+}
+
+impl<const D: usize> ImagedFieldVisitor<D> for RefreshImages<'_, D> {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>, seen: fn(&T, &Vector<D>) -> T) {
+        if field.is_empty() {
+            return;
+        }
+        for (k, image) in self.images.iter().enumerate() {
+            field[self.n_real + k] = seen(&field[image.source as usize], &image.velocity_sign);
+        }
+    }
 }
 
 /// A tensor seen in a mirror: components s_ab change sign with the product of the axis signs
@@ -102,16 +213,31 @@ impl<const D: usize> Particles<D> {
     /// particle is not material 0.
     pub fn new(init: &[ParticleInit<D>], optional: OptionalFields) -> Self {
         let n = init.len();
+        let field = |present: bool, value: f64| if present { vec![value; n] } else { Vec::new() };
+        let tensors = |present: bool| {
+            if present {
+                vec![Tensor::zeros(); n]
+            } else {
+                Vec::new()
+            }
+        };
+        let of_each = |present: bool, value: fn(&ParticleInit<D>) -> f64| {
+            if present {
+                init.iter().map(value).collect()
+            } else {
+                Vec::new()
+            }
+        };
         let multi_material = init.iter().any(|p| p.material != 0);
         Self {
             position: init.iter().map(|p| p.position).collect(),
             velocity: init.iter().map(|p| p.velocity).collect(),
-            mass: init.iter().map(|p| p.mass).collect(),
-            smoothing_length: init.iter().map(|p| p.smoothing_length).collect(),
-            density: init.iter().map(|p| p.density).collect(),
-            internal_energy: init.iter().map(|p| p.internal_energy).collect(),
-            pressure: vec![0.0; n],
-            sound_speed: vec![0.0; n],
+            mass: of_each(true, |p| p.mass),
+            smoothing_length: of_each(true, |p| p.smoothing_length),
+            density: of_each(true, |p| p.density),
+            internal_energy: of_each(true, |p| p.internal_energy),
+            pressure: field(true, 0.0),
+            sound_speed: field(true, 0.0),
             material: if multi_material {
                 init.iter().map(|p| p.material).collect()
             } else {
@@ -119,58 +245,20 @@ impl<const D: usize> Particles<D> {
             },
             id: (0..n as u32).collect(),
             acceleration: vec![Vector::zeros(); n],
-            energy_rate: vec![0.0; n],
-            density_rate: if optional.density_rate {
-                vec![0.0; n]
-            } else {
-                Vec::new()
-            },
-            omega: if optional.grad_h {
-                vec![1.0; n]
-            } else {
-                Vec::new()
-            },
-            smoothing_rate: if optional.grad_h {
-                vec![0.0; n]
-            } else {
-                Vec::new()
-            },
-            peak_density: if optional.peak_density {
-                init.iter().map(|p| p.density).collect()
-            } else {
-                Vec::new()
-            },
-            deviatoric_stress: if optional.stress {
-                vec![Tensor::zeros(); n]
-            } else {
-                Vec::new()
-            },
-            stress_rate: if optional.stress {
-                vec![Tensor::zeros(); n]
-            } else {
-                Vec::new()
-            },
-            plastic_strain: if optional.stress {
-                vec![0.0; n]
-            } else {
-                Vec::new()
-            },
-            plastic_work: if optional.stress {
-                vec![0.0; n]
-            } else {
-                Vec::new()
-            },
-            strain_rate: if optional.stress {
-                vec![0.0; n]
-            } else {
-                Vec::new()
-            },
-            lighting_time: Vec::new(),
-            burn_fraction: Vec::new(),
-            signal_speed: vec![0.0; n],
-            viscosity_alpha: Vec::new(),
+            energy_rate: field(true, 0.0),
+            signal_speed: field(true, 0.0),
+            density_rate: field(optional.density_rate, 0.0),
+            omega: field(optional.grad_h, 1.0),
+            smoothing_rate: field(optional.grad_h, 0.0),
+            peak_density: of_each(optional.peak_density, |p| p.density),
+            deviatoric_stress: tensors(optional.stress),
+            stress_rate: tensors(optional.stress),
+            plastic_strain: field(optional.stress, 0.0),
+            plastic_work: field(optional.stress, 0.0),
+            strain_rate: field(optional.stress, 0.0),
             n_real: n,
-            images: Vec::new(),
+            // set by the scene where it needs them: the burn, the viscosity switch
+            ..Self::default()
         }
     }
 
@@ -229,20 +317,7 @@ impl<const D: usize> Particles<D> {
     /// Removes all images.
     pub fn clear_images(&mut self) {
         let n = self.n_real;
-        self.position.truncate(n);
-        self.velocity.truncate(n);
-        self.mass.truncate(n);
-        self.smoothing_length.truncate(n);
-        self.density.truncate(n);
-        self.internal_energy.truncate(n);
-        self.pressure.truncate(n);
-        self.sound_speed.truncate(n);
-        if !self.omega.is_empty() {
-            self.omega.truncate(n);
-        }
-        if !self.deviatoric_stress.is_empty() {
-            self.deviatoric_stress.truncate(n);
-        }
+        self.visit_all(&mut Truncate(n));
         self.images.clear();
     }
 
@@ -256,22 +331,11 @@ impl<const D: usize> Particles<D> {
             ),
             None => (of as u32, flip, is_wall),
         };
-        let s = source as usize;
         self.position.push(position);
-        self.velocity.push(self.velocity[s].component_mul(&sign));
-        self.mass.push(self.mass[s]);
-        self.smoothing_length.push(self.smoothing_length[s]);
-        self.density.push(self.density[s]);
-        self.internal_energy.push(self.internal_energy[s]);
-        self.pressure.push(self.pressure[s]);
-        self.sound_speed.push(self.sound_speed[s]);
-        if !self.omega.is_empty() {
-            self.omega.push(self.omega[s]);
-        }
-        if !self.deviatoric_stress.is_empty() {
-            self.deviatoric_stress
-                .push(mirrored(&self.deviatoric_stress[s], &sign));
-        }
+        self.visit_imaged(&mut AppendImage {
+            source: source as usize,
+            sign,
+        });
         self.images.push(Image {
             source,
             velocity_sign: sign,
@@ -279,22 +343,14 @@ impl<const D: usize> Particles<D> {
         });
     }
 
-    /// Copies the thermodynamic state (ρ, e, p, c, h, Ω) of every real particle onto its images.
+    /// Copies the state of every real particle onto its images (seen through their mirrors).
     pub fn refresh_image_state(&mut self) {
-        for (k, image) in self.images.iter().enumerate() {
-            let (i, s) = (self.n_real + k, image.source as usize);
-            self.density[i] = self.density[s];
-            self.internal_energy[i] = self.internal_energy[s];
-            self.pressure[i] = self.pressure[s];
-            self.sound_speed[i] = self.sound_speed[s];
-            self.smoothing_length[i] = self.smoothing_length[s];
-            if let Some(omega) = self.omega.get(s).copied() {
-                self.omega[i] = omega;
-            }
-            if let Some(stress) = self.deviatoric_stress.get(s).copied() {
-                self.deviatoric_stress[i] = mirrored(&stress, &image.velocity_sign);
-            }
-        }
+        let images = std::mem::take(&mut self.images);
+        self.visit_imaged(&mut RefreshImages {
+            n_real: self.n_real,
+            images: &images,
+        });
+        self.images = images;
     }
 
     /// Reorders the real particles so that new index k holds old index `order[k]`, moving every
@@ -302,36 +358,7 @@ impl<const D: usize> Particles<D> {
     pub fn permute(&mut self, order: &[usize]) {
         assert!(self.images.is_empty(), "clear images before reordering");
         assert_eq!(order.len(), self.n_real);
-        fn apply<T: Copy>(field: &mut Vec<T>, order: &[usize]) {
-            if !field.is_empty() {
-                *field = order.iter().map(|&k| field[k]).collect();
-            }
-        }
-        apply(&mut self.position, order);
-        apply(&mut self.velocity, order);
-        apply(&mut self.mass, order);
-        apply(&mut self.smoothing_length, order);
-        apply(&mut self.density, order);
-        apply(&mut self.internal_energy, order);
-        apply(&mut self.pressure, order);
-        apply(&mut self.sound_speed, order);
-        apply(&mut self.material, order);
-        apply(&mut self.id, order);
-        apply(&mut self.acceleration, order);
-        apply(&mut self.energy_rate, order);
-        apply(&mut self.density_rate, order);
-        apply(&mut self.signal_speed, order);
-        apply(&mut self.omega, order);
-        apply(&mut self.smoothing_rate, order);
-        apply(&mut self.peak_density, order);
-        apply(&mut self.deviatoric_stress, order);
-        apply(&mut self.stress_rate, order);
-        apply(&mut self.plastic_strain, order);
-        apply(&mut self.plastic_work, order);
-        apply(&mut self.strain_rate, order);
-        apply(&mut self.lighting_time, order);
-        apply(&mut self.burn_fraction, order);
-        apply(&mut self.viscosity_alpha, order);
+        self.visit_all(&mut Reorder(order));
     }
 
     /// Total mass of the real particles.
