@@ -247,18 +247,8 @@ impl RadialKernel {
     }
 }
 
-/// ρ_i = m_i W̃(r_i, r_i; h_i) + Σ_j m_j W̃(r_i, r_j; h̄_ij).
-pub fn radial_density<const D: usize>(
-    particles: &mut Particles<D>,
-    neighbours: &NeighbourList,
-    kernel: &RadialKernel,
-) {
-    let density = pairs::gather(&RadialDensity { kernel }, particles, neighbours);
-    particles.density[..density.len()].copy_from_slice(&density);
-}
-
 /// What the radial passes read of a neighbour.
-struct ShellSource {
+pub(crate) struct ShellSource {
     radius: f64,
     velocity: f64,
     smoothing_length: f64,
@@ -281,9 +271,9 @@ fn shell_source<const D: usize>(p: &Particles<D>, k: usize) -> ShellSource {
     }
 }
 
-/// The pass of [`radial_density`].
-struct RadialDensity<'a> {
-    kernel: &'a RadialKernel,
+/// The radial summation density ρ_i = m_i W̃(r_i, r_i; h_i) + Σ_j m_j W̃(r_i, r_j; h̄_ij).
+pub(crate) struct RadialDensity<'a> {
+    pub kernel: &'a RadialKernel,
 }
 
 impl<const D: usize> PairEquation<D> for RadialDensity<'_> {

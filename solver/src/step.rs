@@ -699,8 +699,9 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// Smoothing lengths → images → neighbours → density → EOS (× burn fraction) → forces, for
-    /// the state at `time`.
+    /// The rates of the state at `time`, in the order of their dependencies: smoothing lengths,
+    /// images and neighbours → density → equation of state (× burn fraction), copied onto the
+    /// images → the pair passes. Total-Lagrangian solids do it all in one pass over their bonds.
     fn evaluate_rates(&mut self, time: f64) -> Result<(), SolverError> {
         if let (Some(reference), SolidFormulation::TotalLagrangian { hourglass }) =
             (&self.reference, self.config.solids)
@@ -718,8 +719,34 @@ impl<const D: usize> Simulation<D> {
             return Ok(());
         }
         let start = Instant::now();
+        self.find_smoothing_lengths_and_neighbours()?;
+        self.times.neighbours += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        self.evaluate_density();
+        self.evaluate_state(time);
+        self.particles.refresh_image_state();
+        self.times.density += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        if let Some(radial_kernel) = &self.radial_kernel {
+            radial::radial_rates(
+                &mut self.particles,
+                &self.neighbours,
+                radial_kernel,
+                &self.config.viscosity,
+                self.config.energy,
+            );
+        } else {
+            self.evaluate_pair_rates(time);
+        }
+        self.times.forces += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Each particle's h for this state (fixed, from its density, or solved with it), then the
+    /// images and neighbour lists for those h.
+    fn find_smoothing_lengths_and_neighbours(&mut self) -> Result<(), SolverError> {
         match self.config.smoothing {
-            SmoothingLength::GradH { eta, tolerance } => self.solve_grad_h(eta, tolerance)?,
+            SmoothingLength::GradH { eta, tolerance } => return self.solve_grad_h(eta, tolerance),
             SmoothingLength::FollowDensity { eta } => {
                 let p = &mut self.particles;
                 let geometry = self.config.geometry;
@@ -737,30 +764,48 @@ impl<const D: usize> Simulation<D> {
                             geometry.shell_width(r, volume)
                         };
                 }
-                self.search_neighbours();
             }
-            SmoothingLength::Fixed => self.search_neighbours(),
+            SmoothingLength::Fixed => {}
         }
-        self.times.neighbours += start.elapsed().as_secs_f64();
-        let start = Instant::now();
+        self.search_neighbours();
+        Ok(())
+    }
+
+    /// The summation density pass (radial or planar); continuity density was integrated by the
+    /// kicks, and grad-h found it with h. Then each particle's peak density.
+    fn evaluate_density(&mut self) {
         let p = &mut self.particles;
-        if let Some(radial_kernel) = &self.radial_kernel {
-            radial::radial_density(p, &self.neighbours, radial_kernel);
+        let density = if let Some(kernel) = &self.radial_kernel {
+            Some(pairs::gather(
+                &radial::RadialDensity { kernel },
+                p,
+                &self.neighbours,
+            ))
         } else if self.config.density == DensityMethod::Summation
             && !matches!(self.config.smoothing, SmoothingLength::GradH { .. })
         {
-            let density = pairs::gather(
-                &physics::SummationDensity {
-                    kernel: &self.kernel,
-                },
+            let kernel = &self.kernel;
+            Some(pairs::gather(
+                &physics::SummationDensity { kernel },
                 p,
                 &self.neighbours,
-            );
+            ))
+        } else {
+            None
+        };
+        if let Some(density) = density {
             p.density[..density.len()].copy_from_slice(&density);
         }
         for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
             *peak = peak.max(*rho);
         }
+    }
+
+    /// Pressure and sound speed from each material's equation of state (and peak density); a
+    /// solid's sound speed is its P-wave speed; a detonating charge's pressure is scaled by its
+    /// burn fraction at `time`.
+    fn evaluate_state(&mut self, time: f64) {
+        let p = &mut self.particles;
         for i in 0..p.n_real() {
             let eos = &self.materials[p.material_of(i)].eos;
             let (rho, e, peak) = (p.density[i], p.internal_energy[i], p.peak_density_of(i));
@@ -786,103 +831,90 @@ impl<const D: usize> Simulation<D> {
                 p.pressure[i] *= p.burn_fraction[i];
             }
         }
-        p.refresh_image_state();
-        self.times.density += start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        if let Some(radial_kernel) = &self.radial_kernel {
-            radial::radial_rates(
-                p,
-                &self.neighbours,
-                radial_kernel,
-                &self.config.viscosity,
-                self.config.energy,
-            );
+    }
+
+    /// The planar and axisymmetric pair passes, in order: the axis's radius gradients and hoop
+    /// rates (axisymmetric) → velocity gradients (solids, Balsara, the viscosity switch) → each
+    /// particle's Balsara factor and α → the Euler pair terms → the stress pair terms (solids) →
+    /// the hoop terms (axisymmetric).
+    fn evaluate_pair_rates(&mut self, time: f64) {
+        let p = &mut self.particles;
+        let neighbours = &self.neighbours;
+        let pair_kernel = self.config.smoothing.pair_kernel();
+        let pair_geometry = if self.config.axisymmetric {
+            PairGeometry::Axisymmetric
         } else {
-            let pair_kernel = self.config.smoothing.pair_kernel();
-            let pair_geometry = if self.config.axisymmetric {
-                PairGeometry::Axisymmetric
-            } else {
-                PairGeometry::Planar
-            };
-            let solids = !p.deviatoric_stress.is_empty();
-            let radius_gradient = (pair_geometry == PairGeometry::Axisymmetric)
-                .then(|| axisymmetric::radius_gradients(p, &self.neighbours, &self.kernel));
-            let hoop_rate = radius_gradient
-                .as_ref()
-                .map(|g| axisymmetric::hoop_strain_rates(p, g));
-            let switch = self.config.viscosity.switch;
-            let gradients =
-                (solids || self.config.viscosity.balsara || switch.is_some()).then(|| {
-                    physics::velocity_gradients(
-                        p,
-                        &self.neighbours,
-                        &self.kernel,
-                        pair_kernel,
-                        pair_geometry,
-                    )
-                });
-            let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
-                (Some(gradients), true) => Some(
-                    (0..p.n_real())
-                        .map(|i| {
-                            physics::balsara_factor(
-                                &gradients[i],
-                                hoop_rate.as_ref().map_or(0.0, |rates| rates[i]),
-                                p.sound_speed[i],
-                                p.smoothing_length[i],
-                            )
-                        })
-                        .collect(),
-                ),
-                _ => None,
-            };
-            if let (Some(switch), Some(gradients)) = (switch, &gradients) {
-                // α over the step that ends at `time`, with this state's compression
-                let dt = time - self.time;
-                let alpha_max = self.config.viscosity.alpha;
-                for (i, alpha) in p.viscosity_alpha.iter_mut().enumerate() {
-                    let divergence =
-                        gradients[i].trace() + hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
-                    let c_over_h = p.sound_speed[i] / p.smoothing_length[i];
-                    *alpha = switch.relax(*alpha, alpha_max, divergence, c_over_h, dt);
-                }
-            }
-            self.totals = physics::compute_rates(
-                p,
-                &self.neighbours,
-                &self.kernel,
-                &self.config.viscosity,
-                self.config.energy,
-                pair_kernel,
-                balsara.as_deref(),
-                pair_geometry,
-            );
-            if let (true, Some(gradients)) = (solids, &gradients) {
-                let shear_modulus: Vec<f64> = self
-                    .materials
-                    .iter()
-                    .map(|m| m.strength.map_or(0.0, |s| s.shear_modulus))
-                    .collect();
-                let stress = physics::add_stress_rates(
-                    p,
-                    &self.neighbours,
-                    &self.kernel,
-                    pair_kernel,
-                    gradients,
-                    &shear_modulus,
-                    self.config.viscosity.artificial_stress,
-                    pair_geometry,
-                    hoop_rate.as_deref(),
-                );
-                self.totals.wall_force += stress.wall_force;
-                self.totals.artificial_stress_heating = stress.artificial_stress_heating;
-            }
-            if let (Some(g), Some(hoop_rate)) = (&radius_gradient, &hoop_rate) {
-                axisymmetric::add_hoop_terms(p, g, hoop_rate);
+            PairGeometry::Planar
+        };
+        let solids = !p.deviatoric_stress.is_empty();
+        let radius_gradient = (pair_geometry == PairGeometry::Axisymmetric)
+            .then(|| axisymmetric::radius_gradients(p, neighbours, &self.kernel));
+        let hoop_rate = radius_gradient
+            .as_ref()
+            .map(|g| axisymmetric::hoop_strain_rates(p, g));
+        let hoop_rate_of = |i: usize| hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
+        let switch = self.config.viscosity.switch;
+        let gradients = (solids || self.config.viscosity.balsara || switch.is_some()).then(|| {
+            physics::velocity_gradients(p, neighbours, &self.kernel, pair_kernel, pair_geometry)
+        });
+        let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
+            (Some(gradients), true) => Some(
+                (0..p.n_real())
+                    .map(|i| {
+                        physics::balsara_factor(
+                            &gradients[i],
+                            hoop_rate_of(i),
+                            p.sound_speed[i],
+                            p.smoothing_length[i],
+                        )
+                    })
+                    .collect(),
+            ),
+            _ => None,
+        };
+        if let (Some(switch), Some(gradients)) = (switch, &gradients) {
+            // α over the step that ends at `time`, with this state's compression
+            let dt = time - self.time;
+            let alpha_max = self.config.viscosity.alpha;
+            for (i, alpha) in p.viscosity_alpha.iter_mut().enumerate() {
+                let divergence = gradients[i].trace() + hoop_rate_of(i);
+                let c_over_h = p.sound_speed[i] / p.smoothing_length[i];
+                *alpha = switch.relax(*alpha, alpha_max, divergence, c_over_h, dt);
             }
         }
-        self.times.forces += start.elapsed().as_secs_f64();
-        Ok(())
+        self.totals = physics::compute_rates(
+            p,
+            neighbours,
+            &self.kernel,
+            &self.config.viscosity,
+            self.config.energy,
+            pair_kernel,
+            balsara.as_deref(),
+            pair_geometry,
+        );
+        if let (true, Some(gradients)) = (solids, &gradients) {
+            let shear_modulus: Vec<f64> = self
+                .materials
+                .iter()
+                .map(|m| m.strength.map_or(0.0, |s| s.shear_modulus))
+                .collect();
+            let stress = physics::add_stress_rates(
+                p,
+                neighbours,
+                &self.kernel,
+                pair_kernel,
+                gradients,
+                &shear_modulus,
+                self.config.viscosity.artificial_stress,
+                pair_geometry,
+                hoop_rate.as_deref(),
+            );
+            self.totals.wall_force += stress.wall_force;
+            self.totals.artificial_stress_heating = stress.artificial_stress_heating;
+        }
+        if let (Some(g), Some(hoop_rate)) = (&radius_gradient, &hoop_rate) {
+            axisymmetric::add_hoop_terms(p, g, hoop_rate);
+        }
     }
 
     /// Images for the current h, then the neighbour lists.
