@@ -1,6 +1,6 @@
 //! Steps the 10⁵-particle gas cube a few times, for profilers (`perf record`).
 fn main() {
-    let mut sim = blastsph_benchmarks::gas_cube(100_000);
+    let mut sim = blastsph_benchmarks::gas_box::<3>(100_000);
     let start = std::time::Instant::now();
     let steps = 10;
     for _ in 0..steps {

@@ -1,7 +1,10 @@
-//! Scenes for the benchmarks: jittered lattices and a gas cube ready to step.
+//! Scenes for the benchmarks: jittered lattices and a gas box ready to step.
 
 use blastsph_solver::particles::ParticleInit;
-use blastsph_solver::{Domain, IdealGas, Material, Simulation, SimulationConfig, Vector};
+use blastsph_solver::{
+    Density, Domain, Formulation, IdealGas, Material, Simulation, SimulationConfig,
+    SmoothingLength, Vector,
+};
 
 /// A hash-based number in [−1, 1) for index k (reproducible, no generator state).
 pub fn noise(k: usize, salt: u64) -> f64 {
@@ -24,18 +27,18 @@ pub fn jittered_lattice<const D: usize>(n: usize, dx: f64) -> Vec<Vector<D>> {
         .collect()
 }
 
-/// A cube of ideal gas (ρ = 1, p = 1, random velocities at Mach ~0.1) with h = 1.2 Δx, free
-/// surfaces, ready to step.
-pub fn gas_cube(n: usize) -> Simulation<3> {
+/// A box of ideal gas in D dimensions (ρ = 1, p = 1, random velocities at Mach ~0.1, about
+/// `n` particles) with h = 1.2 Δx, fixed, and free surfaces, ready to step.
+pub fn gas_box<const D: usize>(n: usize) -> Simulation<D> {
     let dx = 0.01;
     let gas = IdealGas::new(1.4).unwrap();
-    let init: Vec<ParticleInit<3>> = jittered_lattice::<3>(n, dx)
+    let init: Vec<ParticleInit<D>> = jittered_lattice::<D>(n, dx)
         .into_iter()
         .enumerate()
         .map(|(k, position)| ParticleInit {
             position,
-            velocity: Vector::<3>::from_fn(|a, _| 0.1 * noise(k, 7 + a as u64)),
-            mass: dx * dx * dx,
+            velocity: Vector::<D>::from_fn(|a, _| 0.1 * noise(k, 7 + a as u64)),
+            mass: dx.powi(D as i32),
             smoothing_length: 1.2 * dx,
             density: 1.0,
             internal_energy: gas.internal_energy(1.0, 1.0),
@@ -43,7 +46,7 @@ pub fn gas_cube(n: usize) -> Simulation<3> {
         })
         .collect();
     let config = SimulationConfig {
-        smoothing: blastsph_solver::SmoothingLength::Fixed,
+        formulation: Formulation::Cartesian(Density::Summation(SmoothingLength::Fixed)),
         ..SimulationConfig::default()
     };
     Simulation::new(

@@ -14,6 +14,7 @@ pub mod burn;
 pub mod dem;
 pub mod eos;
 pub mod error;
+pub mod formulation;
 pub mod kernel;
 pub mod neighbours;
 pub mod operators;
@@ -30,16 +31,15 @@ pub use boundary::{Boundary, Domain};
 pub use burn::ProgrammedBurn;
 pub use eos::{Compaction, EquationOfState, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
 pub use error::SolverError;
+pub use formulation::{Density, Formulation, SmoothingLength};
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
 pub use physics::{
-    ArtificialStress, ArtificialViscosity, DensityMethod, EnergyEquation, InterfacePenalty,
-    ViscositySwitch,
+    ArtificialStress, ArtificialViscosity, EnergyEquation, InterfacePenalty, ViscositySwitch,
 };
 pub use radial::Geometry;
-pub use step::{ArtificialHeating, PhaseTimes, Simulation, SimulationConfig, SmoothingLength};
+pub use step::{ArtificialHeating, PhaseTimes, Simulation, SimulationConfig};
 pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
-pub use total_lagrangian::SolidFormulation;
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

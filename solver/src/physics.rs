@@ -15,32 +15,6 @@ use crate::particles::Particles;
 use crate::{Tensor, Vector};
 use rayon::prelude::*;
 
-/// How density is obtained.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DensityMethod {
-    /// ρ_i = Σ_j m_j W_ij (self term included): exact mass conservation, smooths contact jumps.
-    Summation,
-    /// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij · ∇_i W_ij: keeps density jumps sharp (the seed
-    /// recommends it for strong discontinuities); the initial density is the prescribed one.
-    /// The velocity divergence is weighted by the neighbours' volumes m_j/ρ_j rather than by
-    /// m_j/ρ_i (the seed's Σ m_j v_ij·∇W form): across a material interface, where neighbours
-    /// of equal size differ in mass by the density ratio, only the volume weights estimate
-    /// ∇·v consistently (Monaghan 1992 §2; Colagrossi & Landrini 2003 for density ratios of
-    /// 1000). In a single material with a smooth density both forms agree to O(h²).
-    Continuity,
-}
-
-impl DensityMethod {
-    pub const ALL: [DensityMethod; 2] = [DensityMethod::Summation, DensityMethod::Continuity];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            DensityMethod::Summation => "summation",
-            DensityMethod::Continuity => "continuity",
-        }
-    }
-}
-
 /// Which form of the energy equation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EnergyEquation {
@@ -787,7 +761,7 @@ impl<const D: usize> Default for RateTotals<D> {
 /// in i, j, and the energy equation's p_i/(ρ_i ρ_j) is p_i/ρ_i² times the volume-form Dρ_i/Dt,
 /// so momentum and energy stay conserved,
 /// De_i/Dt in the chosen [`EnergyEquation`] form,
-/// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij·∇_i W_ij (continuity, see [`DensityMethod::Continuity`]) or
+/// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij·∇_i W_ij (continuity, see [`crate::formulation::Density::Continuity`]) or
 /// Σ_j m_j v_ij·∇_i W_ij(h_i) (the rate of the grad-h summation density),
 /// with the grad-h forms where `pair_kernel` is [`PairKernel::OwnH`] (the particles then carry
 /// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess). `balsara` holds each real

@@ -3,7 +3,7 @@
 //! Integration is kick–drift–kick leapfrog (second order). Without viscosity it retraces its
 //! steps to third order in Δt: exactly for the positions' part, up to the energy predictor below
 //! (tested in `solver/tests/conservation.rs`). With `SmoothingLength::FollowDensity`, h lags
-//! one step behind the density, which breaks reversal at first order; `SmoothingLength::GradH`
+//! one step behind the density, which breaks reversal at first order; `Density::GradH`
 //! solves h and ρ together and carries the Ω terms, which conserves energy again. Steps:
 //! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted
 //! v* = v^{n+½} + a^n Δt/2 (and likewise e, ρ), then v^{n+1} = v^{n+½} + a^{n+1} Δt/2.
@@ -15,90 +15,18 @@ use crate::boundary::{Boundary, Domain};
 use crate::burn::ProgrammedBurn;
 use crate::eos::Material;
 use crate::error::SolverError;
+use crate::formulation::{Density, Formulation, SmoothingLength};
 use crate::kernel::{Kernel, KernelShape};
-use crate::neighbours::{find_neighbours, CellGrid, NeighbourList, PairReach};
+use crate::neighbours::{find_neighbours, CellGrid, NeighbourList};
 use crate::pairs;
 use crate::particles::{OptionalFields, ParticleInit, Particles};
-use crate::physics::{
-    self, ArtificialViscosity, DensityMethod, EnergyEquation, PairKernel, RateTotals,
-    SmoothingSolution,
-};
+use crate::physics::{self, ArtificialViscosity, EnergyEquation, RateTotals, SmoothingSolution};
 use crate::radial::{self, Geometry, RadialKernel};
 use crate::strength::YieldState;
-use crate::total_lagrangian::{ReferenceConfiguration, SolidFormulation};
+use crate::total_lagrangian::ReferenceConfiguration;
 use crate::{Tensor, Vector};
 use std::f64::consts::PI;
 use std::time::Instant;
-
-/// How each particle's smoothing length is set.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SmoothingLength {
-    /// h stays as given.
-    Fixed,
-    /// h_i = η (m_i/ρ_i)^{1/D} from the latest density, before each neighbour search. Each
-    /// pair uses W(r, h̄_ij); energy is conserved up to the change of h between steps.
-    FollowDensity { eta: f64 },
-    /// Grad-h SPH: h_i = η (m_i/ρ_i)^{1/D} and ρ_i = Σ_j m_j W(r_ij, h_i) solved together by
-    /// Newton–Raphson until a step changes h by less than `tolerance`·h, with the Ω terms in
-    /// momentum and energy (Springel & Hernquist 2002; Price 2012), so that total energy is
-    /// conserved to the integrator's accuracy. Needs summation density.
-    GradH { eta: f64, tolerance: f64 },
-}
-
-/// The default grad-h tolerance: the Ω terms assume h and ρ agree exactly, and a relative
-/// mismatch δ shows up as an energy error of order δ per step; 1e-6 keeps that below the
-/// integrator's error at a cost of one or two extra density passes.
-pub const GRAD_H_TOLERANCE: f64 = 1e-6;
-
-impl SmoothingLength {
-    /// Every mode with the given η (and the default grad-h tolerance).
-    pub fn all(eta: f64) -> [SmoothingLength; 3] {
-        [
-            SmoothingLength::Fixed,
-            SmoothingLength::FollowDensity { eta },
-            SmoothingLength::GradH {
-                eta,
-                tolerance: GRAD_H_TOLERANCE,
-            },
-        ]
-    }
-
-    /// Kebab-case name used on the command line and in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            SmoothingLength::Fixed => "fixed",
-            SmoothingLength::FollowDensity { .. } => "follow-density",
-            SmoothingLength::GradH { .. } => "grad-h",
-        }
-    }
-
-    /// η, where h follows the density.
-    pub fn eta(self) -> Option<f64> {
-        match self {
-            SmoothingLength::Fixed => None,
-            SmoothingLength::FollowDensity { eta } | SmoothingLength::GradH { eta, .. } => {
-                Some(eta)
-            }
-        }
-    }
-
-    fn pair_reach(self) -> PairReach {
-        match self {
-            SmoothingLength::GradH { .. } => PairReach::LargerH,
-            _ => PairReach::MeanH,
-        }
-    }
-
-    fn pair_kernel(self) -> PairKernel {
-        match self {
-            SmoothingLength::GradH { .. } => PairKernel::OwnH,
-            _ => PairKernel::MeanH,
-        }
-    }
-}
-
-/// The allowed range of η = h/(m/ρ)^{1/D}: from under one neighbour spacing to four.
-pub const ETA_RANGE: (f64, f64) = (0.5, 4.0);
 
 /// The grad-h neighbour search reaches this much beyond each particle's predicted h, so that
 /// the converged h rarely needs a second search.
@@ -110,38 +38,28 @@ pub const CFL_RANGE: (f64, f64) = (0.01, 0.5);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimulationConfig {
-    /// Planar (Cartesian in D dimensions) or, for D = 1, cylindrical or spherical in r.
-    pub geometry: Geometry,
-    /// D = 2 only: x is the distance r from an axis of symmetry and y is z; each particle is a
-    /// ring whose mass is the particle's (see [`crate::axisymmetric`]). Needs continuity
-    /// density and a wall at r = 0 (the axis).
-    pub axisymmetric: bool,
+    /// Coordinates, density and smoothing-length method, and how solids are discretised.
+    pub formulation: Formulation,
     pub kernel: KernelShape,
-    pub density: DensityMethod,
     pub viscosity: ArtificialViscosity,
     pub energy: EnergyEquation,
-    pub smoothing: SmoothingLength,
     /// Courant number C.
     pub cfl: f64,
     /// A time step below this (s) stops the run as collapsed.
     pub min_time_step: f64,
-    /// How solids are discretised: the updated form (the default) or total-Lagrangian.
-    pub solids: SolidFormulation,
 }
 
 impl Default for SimulationConfig {
     fn default() -> Self {
         Self {
-            geometry: Geometry::Planar,
-            axisymmetric: false,
+            formulation: Formulation::Cartesian(Density::Summation(
+                SmoothingLength::FollowDensity { eta: 1.2 },
+            )),
             kernel: KernelShape::CubicSpline,
-            density: DensityMethod::Summation,
             viscosity: ArtificialViscosity::default(),
             energy: EnergyEquation::OwnPressure,
-            smoothing: SmoothingLength::FollowDensity { eta: 1.2 },
             cfl: 0.3,
             min_time_step: 1e-15,
-            solids: SolidFormulation::Updated,
         }
     }
 }
@@ -156,36 +74,6 @@ impl SimulationConfig {
                 &format!("{lo} ≤ C ≤ {hi}"),
             ));
         }
-        let (eta_lo, eta_hi) = ETA_RANGE;
-        match self.smoothing {
-            SmoothingLength::Fixed => {}
-            SmoothingLength::FollowDensity { eta } | SmoothingLength::GradH { eta, .. }
-                if !(eta_lo..=eta_hi).contains(&eta) =>
-            {
-                return Err(SolverError::invalid(
-                    "eta",
-                    eta,
-                    &format!("{eta_lo} ≤ η ≤ {eta_hi}"),
-                ));
-            }
-            SmoothingLength::GradH { tolerance, .. } => {
-                if !(tolerance > 0.0 && tolerance <= 1e-2) {
-                    return Err(SolverError::invalid(
-                        "grad-h tolerance",
-                        tolerance,
-                        "0 < tolerance ≤ 1e-2",
-                    ));
-                }
-                if self.density != DensityMethod::Summation {
-                    return Err(SolverError::invalid(
-                        "density",
-                        self.density.name(),
-                        "summation (grad-h solves h with the summation density)",
-                    ));
-                }
-            }
-            SmoothingLength::FollowDensity { .. } => {}
-        }
         if !(self.min_time_step >= 0.0) {
             return Err(SolverError::invalid(
                 "min_time_step",
@@ -193,11 +81,10 @@ impl SimulationConfig {
                 "≥ 0",
             ));
         }
-        self.validate_geometry(None)?;
-        self.solids.validate()?;
-        if self.solids != SolidFormulation::Updated {
+        self.formulation.validate()?;
+        let v = &self.viscosity;
+        if self.formulation.is_total_lagrangian() {
             // the total-Lagrangian viscosity is a bulk viscosity of α and β alone
-            let v = &self.viscosity;
             let pair_terms = [
                 ("artificial stress", v.artificial_stress.is_some()),
                 ("viscosity switch", v.switch.is_some()),
@@ -211,70 +98,14 @@ impl SimulationConfig {
                 ));
             }
         }
-        self.viscosity.validate()
-    }
-
-    /// Radial geometries are one-dimensional, with summation density and h fixed or following
-    /// the density (the grad-h terms are derived for Cartesian kernels only); axisymmetric
-    /// scenes are 2D with continuity density. `dimension` is the scene's D where known.
-    fn validate_geometry(&self, dimension: Option<usize>) -> Result<(), SolverError> {
-        if self.solids != SolidFormulation::Updated
-            && (self.axisymmetric || self.geometry != Geometry::Planar)
-        {
-            return Err(SolverError::invalid(
-                "solids",
-                self.solids.name(),
-                "updated in axisymmetric and radial geometries (the total-Lagrangian form is Cartesian)",
-            ));
-        }
-        if self.axisymmetric {
-            if dimension.is_some_and(|d| d != 2) || self.geometry != Geometry::Planar {
-                return Err(SolverError::invalid(
-                    "axisymmetric",
-                    format!("{} in {:?}D", self.geometry.name(), dimension),
-                    "2D planar (r, z)",
-                ));
-            }
-            if self.density != DensityMethod::Continuity {
-                return Err(SolverError::invalid(
-                    "density",
-                    self.density.name(),
-                    "continuity in an axisymmetric scene (summed ring masses smear η near the axis)",
-                ));
-            }
-        }
-        if self.geometry == Geometry::Planar {
-            return Ok(());
-        }
-        if self.viscosity.switch.is_some() {
+        if self.formulation.geometry() != Geometry::Planar && v.switch.is_some() {
             return Err(SolverError::invalid(
                 "viscosity switch",
                 "on",
                 "off in a radial geometry (its source is the Cartesian velocity divergence)",
             ));
         }
-        if let Some(d) = dimension.filter(|&d| d != 1) {
-            return Err(SolverError::invalid(
-                "geometry",
-                self.geometry.name(),
-                &format!("planar in {d}D (cylindrical and spherical are 1D in r)"),
-            ));
-        }
-        if self.density != DensityMethod::Summation {
-            return Err(SolverError::invalid(
-                "density",
-                self.density.name(),
-                "summation in a radial geometry",
-            ));
-        }
-        if let SmoothingLength::GradH { .. } = self.smoothing {
-            return Err(SolverError::invalid(
-                "smoothing",
-                self.smoothing.name(),
-                "fixed or follow-density in a radial geometry",
-            ));
-        }
-        Ok(())
+        v.validate()
     }
 }
 
@@ -385,10 +216,17 @@ impl<const D: usize> Simulation<D> {
         burn: Option<ProgrammedBurn>,
     ) -> Result<Self, SolverError> {
         config.validate()?;
-        config.validate_geometry(Some(D))?;
+        let formulation = config.formulation;
+        if let Some(dimension) = formulation.dimension().filter(|&d| d != D) {
+            return Err(SolverError::invalid(
+                "formulation",
+                format!("{formulation:?} in {D}D"),
+                &format!("{dimension}D"),
+            ));
+        }
         validate_particles(init, materials.len())?;
-        let radial_kernel = (config.geometry != Geometry::Planar)
-            .then(|| RadialKernel::new(config.geometry, config.kernel));
+        let radial_kernel = (formulation.geometry() != Geometry::Planar)
+            .then(|| RadialKernel::new(formulation.geometry(), config.kernel));
         if radial_kernel.is_some() {
             validate_radial_scene(init, &domain)?;
             if let Some(solid) = materials.iter().find(|m| m.strength.is_some()) {
@@ -399,10 +237,10 @@ impl<const D: usize> Simulation<D> {
                 ));
             }
         }
-        if config.axisymmetric {
+        if formulation.is_axisymmetric() {
             validate_axisymmetric_scene(init, &domain)?;
         }
-        let total_lagrangian = config.solids != SolidFormulation::Updated;
+        let total_lagrangian = formulation.is_total_lagrangian();
         if total_lagrangian {
             if let Some(fluid) = materials.iter().find(|m| m.strength.is_none()) {
                 return Err(SolverError::invalid(
@@ -413,9 +251,8 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let optional = OptionalFields {
-            // the total-Lagrangian density is ρ0/det F
-            density_rate: config.density == DensityMethod::Continuity && !total_lagrangian,
-            grad_h: matches!(config.smoothing, SmoothingLength::GradH { .. }),
+            density_rate: formulation.integrates_density(),
+            grad_h: formulation.grad_h().is_some(),
             peak_density: materials.iter().any(|m| m.eos.remembers_peak_density()),
             stress: materials.iter().any(|m| m.strength.is_some()),
         };
@@ -703,8 +540,8 @@ impl<const D: usize> Simulation<D> {
     /// images and neighbours → density → equation of state (× burn fraction), copied onto the
     /// images → the pair passes. Total-Lagrangian solids do it all in one pass over their bonds.
     fn evaluate_rates(&mut self, time: f64) -> Result<(), SolverError> {
-        if let (Some(reference), SolidFormulation::TotalLagrangian { hourglass }) =
-            (&self.reference, self.config.solids)
+        if let (Some(reference), Formulation::TotalLagrangian { hourglass }) =
+            (&self.reference, self.config.formulation)
         {
             let start = Instant::now();
             let totals = reference.evaluate(
@@ -745,12 +582,15 @@ impl<const D: usize> Simulation<D> {
     /// Each particle's h for this state (fixed, from its density, or solved with it), then the
     /// images and neighbour lists for those h.
     fn find_smoothing_lengths_and_neighbours(&mut self) -> Result<(), SolverError> {
-        match self.config.smoothing {
-            SmoothingLength::GradH { eta, tolerance } => return self.solve_grad_h(eta, tolerance),
-            SmoothingLength::FollowDensity { eta } => {
+        let formulation = self.config.formulation;
+        if let Some((eta, tolerance)) = formulation.grad_h() {
+            return self.solve_grad_h(eta, tolerance);
+        }
+        match formulation.smoothing() {
+            Some(SmoothingLength::FollowDensity { eta }) => {
                 let p = &mut self.particles;
-                let geometry = self.config.geometry;
-                let axisymmetric = self.config.axisymmetric;
+                let geometry = formulation.geometry();
+                let axisymmetric = formulation.is_axisymmetric();
                 for i in 0..p.n_real() {
                     let volume = p.mass[i] / p.density[i];
                     let r = p.position[i][0];
@@ -765,7 +605,7 @@ impl<const D: usize> Simulation<D> {
                         };
                 }
             }
-            SmoothingLength::Fixed => {}
+            Some(SmoothingLength::Fixed) | None => {}
         }
         self.search_neighbours();
         Ok(())
@@ -781,9 +621,7 @@ impl<const D: usize> Simulation<D> {
                 p,
                 &self.neighbours,
             ))
-        } else if self.config.density == DensityMethod::Summation
-            && !matches!(self.config.smoothing, SmoothingLength::GradH { .. })
-        {
+        } else if self.config.formulation.sums_density() {
             let kernel = &self.kernel;
             Some(pairs::gather(
                 &physics::SummationDensity { kernel },
@@ -840,8 +678,8 @@ impl<const D: usize> Simulation<D> {
     fn evaluate_pair_rates(&mut self, time: f64) {
         let p = &mut self.particles;
         let neighbours = &self.neighbours;
-        let pair_kernel = self.config.smoothing.pair_kernel();
-        let pair_geometry = if self.config.axisymmetric {
+        let pair_kernel = self.config.formulation.pair_kernel();
+        let pair_geometry = if self.config.formulation.is_axisymmetric() {
             PairGeometry::Axisymmetric
         } else {
             PairGeometry::Planar
@@ -928,7 +766,7 @@ impl<const D: usize> Simulation<D> {
             &p.position,
             &p.smoothing_length,
             self.kernel.shape().support(),
-            self.config.smoothing.pair_reach(),
+            self.config.formulation.pair_reach(),
             p.n_real(),
         );
     }

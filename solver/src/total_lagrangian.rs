@@ -48,39 +48,6 @@ use crate::physics::{ArtificialViscosity, RateTotals};
 use crate::strength::{equivalent_strain_rate, jaumann_rate};
 use crate::{SolverError, Tensor, Vector};
 
-/// How solids are discretised.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SolidFormulation {
-    /// The kernel moves with the particles and neighbours are searched every step (the
-    /// formulation of the fluids; solids need the artificial stress where they stretch).
-    Updated,
-    /// The kernel stays in the reference configuration (this module), with the hourglass
-    /// control coefficient κ.
-    TotalLagrangian { hourglass: f64 },
-}
-
-impl SolidFormulation {
-    pub fn name(self) -> &'static str {
-        match self {
-            SolidFormulation::Updated => "updated",
-            SolidFormulation::TotalLagrangian { .. } => "total-lagrangian",
-        }
-    }
-
-    pub fn validate(self) -> Result<(), SolverError> {
-        if let SolidFormulation::TotalLagrangian { hourglass } = self {
-            if !(0.0..=100.0).contains(&hourglass) {
-                return Err(SolverError::invalid(
-                    "hourglass coefficient",
-                    hourglass,
-                    "0 ≤ κ ≤ 100",
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
 /// One neighbour j of a particle i in the reference configuration.
 #[derive(Clone, Copy, Debug)]
 struct Bond<const D: usize> {

@@ -4,7 +4,7 @@
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, Material, MieGruneisen, Simulation,
+    ArtificialViscosity, Boundary, Domain, Formulation, Material, MieGruneisen, Simulation,
     SimulationConfig, SmoothingLength, Strength, Vector,
 };
 use std::f64::consts::PI;
@@ -20,9 +20,7 @@ fn copper(yield_stress: f64) -> Material {
 
 fn config() -> SimulationConfig {
     SimulationConfig {
-        axisymmetric: true,
-        density: DensityMethod::Continuity,
-        smoothing: SmoothingLength::Fixed,
+        formulation: Formulation::Axisymmetric(SmoothingLength::Fixed),
         viscosity: ArtificialViscosity::default(),
         ..SimulationConfig::default()
     }
@@ -187,8 +185,8 @@ fn jostled_column_conserves_energy_and_axial_momentum() {
     }
 }
 
-/// An axisymmetric scene needs continuity density, 2D, a wall on the axis and r > 0: each
-/// refused by name.
+/// An axisymmetric scene needs 2D, a wall on the axis and r > 0: each refused by name (its
+/// continuity density is in its type).
 #[test]
 fn bad_axisymmetric_scenes_are_refused_by_name() {
     let refuse = |init: &[ParticleInit<2>], domain: Domain<2>, config: SimulationConfig| {
@@ -197,11 +195,6 @@ fn bad_axisymmetric_scenes_are_refused_by_name() {
             .to_string()
     };
     let (init, domain) = column(4, 4, RHO0, |_, _| Vector::zeros());
-    let summation = SimulationConfig {
-        density: DensityMethod::Summation,
-        ..config()
-    };
-    assert!(refuse(&init, domain, summation).contains("density"));
     let mut open_axis = domain;
     open_axis.lower[0] = Boundary::Open;
     assert!(refuse(&init, open_axis, config()).contains("axis"));
@@ -220,5 +213,5 @@ fn bad_axisymmetric_scenes_are_refused_by_name() {
     let err = Simulation::new(&init_3d, vec![copper(400e6)], Domain::open(), config())
         .unwrap_err()
         .to_string();
-    assert!(err.contains("axisymmetric"), "{err}");
+    assert!(err.contains("formulation") && err.contains("2D"), "{err}");
 }

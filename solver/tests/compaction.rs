@@ -3,7 +3,7 @@
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    Boundary, Compaction, DensityMethod, Domain, EquationOfState, Material, Simulation,
+    Boundary, Compaction, Density, Domain, EquationOfState, Formulation, Material, Simulation,
     SimulationConfig, SmoothingLength, Vector,
 };
 
@@ -41,8 +41,9 @@ fn particles_remember_their_peak_density_and_unload_elastically() {
         })
         .collect();
     let config = SimulationConfig {
-        density: DensityMethod::Continuity,
-        smoothing: SmoothingLength::FollowDensity { eta: 2.0 },
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
+            eta: 2.0,
+        })),
         ..SimulationConfig::default()
     };
     let domain = Domain::new(

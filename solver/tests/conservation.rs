@@ -3,8 +3,8 @@
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    Boundary, Domain, IdealGas, Material, Simulation, SimulationConfig, SmoothingLength,
-    SolverError, Vector,
+    Boundary, Density, Domain, Formulation, IdealGas, Material, Simulation, SimulationConfig,
+    SmoothingLength, SolverError, Vector,
 };
 
 /// A deterministic pseudo-random number in [−1, 1) for particle k (a hash, no generator state).
@@ -293,9 +293,9 @@ fn bad_configuration_names_the_field_and_range() {
     .to_string();
     assert!(err.contains("density") && err.contains("> 0"), "{err}");
     // the viscosity switch: α_min above α, a decay outside (0, 1], and a radial geometry
-    let switched = |alpha_min: f64, decay: f64, geometry: blastsph_solver::Geometry| {
+    let switched = |alpha_min: f64, decay: f64, formulation: Formulation| {
         let config = SimulationConfig {
-            geometry,
+            formulation,
             viscosity: blastsph_solver::ArtificialViscosity {
                 switch: Some(blastsph_solver::ViscositySwitch { alpha_min, decay }),
                 ..Default::default()
@@ -310,7 +310,7 @@ fn bad_configuration_names_the_field_and_range() {
         )
         .map(|_| ())
     };
-    let planar = blastsph_solver::Geometry::Planar;
+    let planar = SimulationConfig::default().formulation;
     let err = switched(1.5, 0.2, planar).unwrap_err().to_string();
     assert!(err.contains("alpha_min") && err.contains("≤ α"), "{err}");
     let err = switched(0.1, 0.0, planar).unwrap_err().to_string();
@@ -332,7 +332,7 @@ fn bad_configuration_names_the_field_and_range() {
     let err = no_viscosity.validate().unwrap_err().to_string();
     assert!(err.contains("alpha") && err.contains("switch on"), "{err}");
     assert!(switched(0.1, 0.2, planar).is_ok());
-    let err = switched(0.1, 0.2, blastsph_solver::Geometry::Spherical)
+    let err = switched(0.1, 0.2, Formulation::Spherical(SmoothingLength::Fixed))
         .unwrap_err()
         .to_string();
     assert!(
@@ -340,9 +340,9 @@ fn bad_configuration_names_the_field_and_range() {
         "{err}"
     );
     // total-Lagrangian solids: κ outside [0, 100], the updated form's pair terms, a fluid
-    // material, and a geometry other than planar
+    // material
     let total_lagrangian = |hourglass: f64| SimulationConfig {
-        solids: blastsph_solver::SolidFormulation::TotalLagrangian { hourglass },
+        formulation: Formulation::TotalLagrangian { hourglass },
         ..SimulationConfig::default()
     };
     let err = total_lagrangian(-1.0).validate().unwrap_err().to_string();
@@ -374,13 +374,6 @@ fn bad_configuration_names_the_field_and_range() {
         err.contains("material") && err.contains("solids only"),
         "{err}"
     );
-    let cylindrical = SimulationConfig {
-        geometry: blastsph_solver::Geometry::Cylindrical,
-        density: blastsph_solver::DensityMethod::Summation,
-        ..total_lagrangian(0.1)
-    };
-    let err = cylindrical.validate().unwrap_err().to_string();
-    assert!(err.contains("solids") && err.contains("Cartesian"), "{err}");
 }
 
 /// Runs `steps` steps of length `dt` forward, reverses every velocity, runs them again, and
@@ -392,7 +385,7 @@ fn return_error(dt_fraction: f64, steps: usize) -> (f64, f64) {
             beta: 0.0,
             ..Default::default()
         },
-        smoothing: blastsph_solver::SmoothingLength::Fixed,
+        formulation: Formulation::Cartesian(Density::Summation(SmoothingLength::Fixed)),
         ..SimulationConfig::default()
     };
     let domain = Domain::new(
@@ -462,14 +455,14 @@ fn leapfrog_without_viscosity_retraces_its_steps() {
     assert!(fine < coarse / 6.0, "{fine:e} at Δt/2 against {coarse:e}");
 }
 
-use blastsph_solver::step::GRAD_H_TOLERANCE;
+use blastsph_solver::formulation::GRAD_H_TOLERANCE;
 
 fn grad_h(tolerance: f64) -> SimulationConfig {
     SimulationConfig {
-        smoothing: SmoothingLength::GradH {
+        formulation: Formulation::Cartesian(Density::GradH {
             eta: 1.2,
             tolerance,
-        },
+        }),
         ..SimulationConfig::default()
     }
 }
@@ -568,19 +561,6 @@ fn grad_h_density_and_smoothing_length_agree() {
     }
 }
 
-#[test]
-fn grad_h_needs_summation_density() {
-    let config = SimulationConfig {
-        density: blastsph_solver::DensityMethod::Continuity,
-        ..grad_h(GRAD_H_TOLERANCE)
-    };
-    let err = config.validate().unwrap_err().to_string();
-    assert!(
-        err.contains("density") && err.contains("summation"),
-        "{err}"
-    );
-}
-
 /// A periodic box at rest with a hot spot in the middle (pressure up to 3× the background):
 /// the density changes by tens of per cent within a few steps, so h changes too.
 fn hot_spot_box<const D: usize>(n: usize, config: SimulationConfig) -> Simulation<D> {
@@ -614,7 +594,7 @@ fn interface_penalty_repels_different_materials_only_and_conserves_momentum() {
                 })
                 .collect();
         let config = SimulationConfig {
-            smoothing: SmoothingLength::Fixed,
+            formulation: Formulation::Cartesian(Density::Summation(SmoothingLength::Fixed)),
             viscosity: ArtificialViscosity {
                 alpha: 0.0,
                 beta: 0.0,

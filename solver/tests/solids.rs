@@ -4,9 +4,13 @@
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, Material, MieGruneisen, Simulation,
-    SimulationConfig, SmoothingLength, SolidFormulation, Strength, Vector, ViscositySwitch,
+    ArtificialViscosity, Boundary, Density, Domain, Formulation, Material, MieGruneisen,
+    Simulation, SimulationConfig, SmoothingLength, Strength, Vector, ViscositySwitch,
 };
+
+/// The two density methods of the updated form, h fixed.
+const SUMMATION: Density = Density::Summation(SmoothingLength::Fixed);
+const CONTINUITY: Density = Density::Continuity(SmoothingLength::Fixed);
 
 fn noise(k: usize, salt: u64) -> f64 {
     let mut z = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt;
@@ -27,7 +31,7 @@ fn copper(yield_stress: f64) -> Material {
 /// A periodic 2D box (1 cm) of copper on a jittered lattice with random velocities of
 /// 20 m/s, so that shear and normal stresses, rotation and (for a low yield) plastic flow all
 /// occur. Continuity density, as solids use.
-fn copper_box(n: usize, yield_stress: f64, density: DensityMethod, cfl: f64) -> Simulation<2> {
+fn copper_box(n: usize, yield_stress: f64, density: Density, cfl: f64) -> Simulation<2> {
     copper_box_with(
         n,
         yield_stress,
@@ -47,14 +51,13 @@ fn random_velocity(k: usize) -> Vector<2> {
 fn copper_box_with(
     n: usize,
     yield_stress: f64,
-    density: DensityMethod,
+    density: Density,
     cfl: f64,
     viscosity: ArtificialViscosity,
     velocity: impl Fn(usize) -> Vector<2>,
 ) -> Simulation<2> {
     let config = SimulationConfig {
-        density,
-        smoothing: SmoothingLength::Fixed,
+        formulation: Formulation::Cartesian(density),
         viscosity,
         cfl,
         ..SimulationConfig::default()
@@ -119,39 +122,22 @@ fn stress_terms_conserve_momentum_and_energy() {
         ..ArtificialViscosity::default()
     };
     let cases = [
-        (
-            10e9,
-            DensityMethod::Summation,
-            ArtificialViscosity::default(),
-        ),
-        (
-            10e9,
-            DensityMethod::Continuity,
-            ArtificialViscosity::default(),
-        ),
-        (
-            20e6,
-            DensityMethod::Summation,
-            ArtificialViscosity::default(),
-        ),
-        (
-            20e6,
-            DensityMethod::Continuity,
-            ArtificialViscosity::default(),
-        ),
-        (20e6, DensityMethod::Continuity, switched),
+        (10e9, SUMMATION, ArtificialViscosity::default()),
+        (10e9, CONTINUITY, ArtificialViscosity::default()),
+        (20e6, SUMMATION, ArtificialViscosity::default()),
+        (20e6, CONTINUITY, ArtificialViscosity::default()),
+        (20e6, CONTINUITY, switched),
     ];
     let cases = cases.map(|(yield_stress, density, viscosity)| {
         let config = SimulationConfig {
-            density,
-            smoothing: SmoothingLength::Fixed,
+            formulation: Formulation::Cartesian(density),
             viscosity,
             ..SimulationConfig::default()
         };
         (yield_stress, config)
     });
     let total_lagrangian = SimulationConfig {
-        solids: SolidFormulation::TotalLagrangian { hourglass: 1.0 },
+        formulation: Formulation::TotalLagrangian { hourglass: 1.0 },
         ..SimulationConfig::default()
     };
     let cases = cases
@@ -192,9 +178,8 @@ fn stress_terms_conserve_momentum_and_energy() {
             // second order: halving Δt divides the error by about 4 (at least 2.5 here)
             assert!(
                 errors[1] < errors[0] / 2.5 || errors[1] < 1e-12,
-                "{:?} {:?}, Y = {yield_stress}: energy errors {errors:?}",
-                config.density,
-                config.solids
+                "{:?}, Y = {yield_stress}: energy errors {errors:?}",
+                config.formulation
             );
         }
     }
@@ -203,7 +188,7 @@ fn stress_terms_conserve_momentum_and_energy() {
 /// After every step no solid particle lies outside its yield surface (1e-9 relative).
 #[test]
 fn plastic_flow_stays_on_the_yield_surface() {
-    let mut sim = copper_box(16, 20e6, DensityMethod::Continuity, 0.3);
+    let mut sim = copper_box(16, 20e6, CONTINUITY, 0.3);
     for _ in 0..30 {
         let dt = sim.stable_time_step().unwrap();
         sim.step(dt).unwrap();
@@ -271,8 +256,7 @@ fn artificial_stress_stops_the_tensile_instability() {
             })
             .collect();
         let config = SimulationConfig {
-            density: DensityMethod::Continuity,
-            smoothing: SmoothingLength::Fixed,
+            formulation: Formulation::Cartesian(CONTINUITY),
             viscosity: ArtificialViscosity {
                 artificial_stress,
                 ..ArtificialViscosity::default()
@@ -328,7 +312,7 @@ fn viscosity_switch_decays_without_compression_and_rises_with_it() {
     let n = 12;
     let dx = 0.01 / n as f64;
     let uniform = |_| Vector::<2>::new(150.0, -60.0);
-    let mut sim = copper_box_with(n, 1e12, DensityMethod::Continuity, 0.3, viscosity, uniform);
+    let mut sim = copper_box_with(n, 1e12, CONTINUITY, 0.3, viscosity, uniform);
     sim.run_until(2e-6, |_| {}).unwrap();
     let p = sim.particles();
     // the lattice's sound speed: the P-wave speed √((K + 4G/3)/ρ) the solver uses
@@ -342,14 +326,7 @@ fn viscosity_switch_decays_without_compression_and_rises_with_it() {
         );
     }
 
-    let mut sim = copper_box_with(
-        16,
-        20e6,
-        DensityMethod::Continuity,
-        0.3,
-        viscosity,
-        random_velocity,
-    );
+    let mut sim = copper_box_with(16, 20e6, CONTINUITY, 0.3, viscosity, random_velocity);
     let dt = 0.3 * sim.stable_time_step().unwrap();
     run_steps(&mut sim, 200, dt);
     let alphas = &sim.particles().viscosity_alpha;
@@ -377,14 +354,7 @@ fn artificial_heat_closes_the_energy_balance() {
         artificial_stress: Some(ArtificialStress::default()),
         ..ArtificialViscosity::default()
     };
-    let mut sim = copper_box_with(
-        16,
-        10e9,
-        DensityMethod::Continuity,
-        0.3,
-        viscosity,
-        random_velocity,
-    );
+    let mut sim = copper_box_with(16, 10e9, CONTINUITY, 0.3, viscosity, random_velocity);
     let dt = 0.5 * sim.stable_time_step().unwrap();
     run_steps(&mut sim, 300, dt);
     let p = sim.particles();

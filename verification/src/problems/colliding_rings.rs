@@ -20,7 +20,7 @@ use crate::vtk::Snapshot;
 use crate::VerifyError;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialStress, ArtificialViscosity, DensityMethod, Domain, SimulationConfig,
+    ArtificialStress, ArtificialViscosity, Density, Domain, Formulation, SimulationConfig,
     SmoothingLength, Vector,
 };
 
@@ -151,8 +151,7 @@ fn run_one(
         })
         .collect();
     let config = SimulationConfig {
-        density: DensityMethod::Continuity,
-        smoothing: SmoothingLength::Fixed,
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::Fixed)),
         cfl,
         viscosity,
         min_time_step: 1e-9 * t_end,

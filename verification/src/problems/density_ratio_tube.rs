@@ -7,7 +7,7 @@
 //! Set-up (m): walls at 0 and 1, contact at x0 = 0.5, equal particle spacing on both sides (so
 //! the masses differ by the density ratio), each material its own id so the interface is the
 //! boundary between ids; continuity density in the volume form
-//! ([`blastsph_solver::DensityMethod::Continuity`]). The run ends at 80 % of the time the first
+//! ([`blastsph_solver::Density::Continuity`]). The run ends at 80 % of the time the first
 //! wave needs to reach a wall.
 //!
 //! Checks: every run completes (no NaN, no blow-up: the solver stops a run whose pressure falls
@@ -28,8 +28,8 @@ use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, EquationOfState,
-    Geometry, KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
+    ArtificialViscosity, Boundary, Density, Domain, EnergyEquation, EquationOfState, Formulation,
+    KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
 
 pub const NAME: &str = "density-ratio-tube";
@@ -105,19 +105,17 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let t_end = 0.8 * (X0 / (-slowest).max(1e-300)).min((1.0 - X0) / fastest.max(1e-300));
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
-        axisymmetric: false,
-        geometry: Geometry::Planar,
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
+            eta,
+        })),
         kernel: KernelShape::CubicSpline,
-        density: DensityMethod::Continuity,
         viscosity: ArtificialViscosity {
             alpha_u: params.number("alpha_u", 0.0, 10.0)?,
             ..ArtificialViscosity::default()
         },
         energy: EnergyEquation::OwnPressure,
-        smoothing: SmoothingLength::FollowDensity { eta },
         cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
-        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         names,

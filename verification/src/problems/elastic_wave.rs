@@ -19,7 +19,7 @@ use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, Simulation, SimulationConfig,
+    ArtificialViscosity, Boundary, Density, Domain, Formulation, Simulation, SimulationConfig,
     SmoothingLength, Strength, Vector,
 };
 use std::collections::BTreeMap;
@@ -199,11 +199,10 @@ fn run_one<const D: usize>(
     let domain = Domain::new(Vector::<D>::zeros(), upper, sides);
     let t_end = s.travel / s.p_wave_speed;
     let config = SimulationConfig {
-        density: DensityMethod::Continuity,
         // η = 2 in 1D, as in the other 1D problems; 1.2 in 2D (about 20 neighbours)
-        smoothing: SmoothingLength::FollowDensity {
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
             eta: if D == 1 { 2.0 } else { s.eta_2d },
-        },
+        })),
         cfl: s.cfl,
         viscosity: s.viscosity,
         min_time_step: 1e-9 * t_end,

@@ -28,8 +28,8 @@ use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EquationOfState, Geometry,
-    InterfacePenalty, KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
+    ArtificialViscosity, Boundary, Density, Domain, EquationOfState, Formulation, InterfacePenalty,
+    KernelShape, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
 
 pub const NAMES: [&str; 3] = [
@@ -227,12 +227,12 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let exact = Exact::new(&*material_a.eos, &*material_b.eos, (rho_a, rho_b), v, layer)?;
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
-        axisymmetric: false,
-        geometry: Geometry::Planar,
-        kernel: KernelShape::CubicSpline,
         // continuity density keeps the density jump at the interface sharp (see
-        // DensityMethod::Continuity for the volume-weighted form used across materials)
-        density: DensityMethod::Continuity,
+        // Density::Continuity for the volume-weighted form used across materials)
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
+            eta,
+        })),
+        kernel: KernelShape::CubicSpline,
         viscosity: ArtificialViscosity {
             alpha: params.number("alpha", 0.0, 10.0)?,
             beta: params.number("beta", 0.0, 10.0)?,
@@ -243,10 +243,8 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
             ..ArtificialViscosity::default()
         },
         energy: blastsph_solver::EnergyEquation::OwnPressure,
-        smoothing: SmoothingLength::FollowDensity { eta },
         cfl: params.cfl()?,
         min_time_step: 1e-9 * exact.end_time(2.0 * unit),
-        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         a,

@@ -22,12 +22,12 @@ use crate::sedov::SedovBlast;
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
+use blastsph_solver::formulation::ETA_RANGE;
 use blastsph_solver::particles::ParticleInit;
-use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, EquationOfState,
-    Geometry, IdealGas, Kernel, KernelShape, Material, Simulation, SimulationConfig,
-    SmoothingLength, Vector,
+    ArtificialViscosity, Boundary, Density, Domain, EnergyEquation, EquationOfState, Formulation,
+    Geometry, IdealGas, Kernel, KernelShape, Material, Simulation, SimulationConfig, SolverError,
+    Vector,
 };
 use std::collections::BTreeMap;
 
@@ -167,24 +167,16 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
     let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
     let exact = SedovBlast::new(v.blast_geometry, gamma, energy, rho0, t_end)?;
     let config = SimulationConfig {
-        axisymmetric: false,
-        geometry: if v.name == "sedov-spherical-1d" {
-            Geometry::Spherical
-        } else {
-            Geometry::Planar
-        },
+        formulation: formulation(v, "fixed", eta)?,
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
-        density: DensityMethod::Summation,
         viscosity: ArtificialViscosity {
             alpha: params.number("alpha", 0.0, 10.0)?,
             beta: params.number("beta", 0.0, 10.0)?,
             ..ArtificialViscosity::default()
         },
         energy: EnergyEquation::OwnPressure,
-        smoothing: SmoothingLength::Fixed,
         cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
-        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         variant: v,
@@ -197,6 +189,24 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
         extent: 1.3 * exact.r_shock,
         p0: 1e-6 * exact.p2,
     })
+}
+
+/// Summation density with h found as `smoothing` names it (fixed, follow-density, grad-h): in
+/// Cartesian coordinates, or in r for the spherical 1D variant (which has no grad-h).
+fn formulation(v: &Variant, smoothing: &str, eta: f64) -> Result<Formulation, VerifyError> {
+    let density = Density::from_names("summation", smoothing, eta)?;
+    if v.name != "sedov-spherical-1d" {
+        return Ok(Formulation::Cartesian(density));
+    }
+    match density {
+        Density::Summation(rule) => Ok(Formulation::Spherical(rule)),
+        _ => Err(SolverError::invalid(
+            "smoothing",
+            smoothing,
+            "fixed or follow-density in a radial geometry",
+        )
+        .into()),
+    }
 }
 
 /// The particles of the final state that the measurements need.
@@ -223,14 +233,15 @@ fn setup<const D: usize>(s: &Settings, n: usize) -> (Vec<ParticleInit<D>>, Domai
     let e0 = gas.internal_energy(rho0, s.p0);
     let spacing = s.extent / n as f64;
     let h = s.eta * spacing;
-    let radial = s.config.geometry != Geometry::Planar;
+    let geometry = s.config.formulation.geometry();
+    let radial = geometry != Geometry::Planar;
     let mut init: Vec<ParticleInit<D>> = (0..n.pow(if radial { 1 } else { D as u32 }))
         .map(|k| {
             let index = |a: u32| (k / n.pow(a)) % n;
             let position = Vector::<D>::from_fn(|a, _| (index(a as u32) as f64 + 0.5) * spacing);
             let mass = if radial {
                 let r0 = index(0) as f64 * spacing;
-                s.config.geometry.volume_between(r0, r0 + spacing) * rho0
+                geometry.volume_between(r0, r0 + spacing) * rho0
             } else {
                 spacing.powi(D as i32) * rho0
             };
@@ -290,7 +301,7 @@ fn run_blast<const D: usize>(
     let (init, domain, spacing) = setup::<D>(s, n);
     let gas = Material::new("ideal-gas", IdealGas::new(s.exact.gamma)?);
     let formulation = super::shock_tube::formulation(&s.config);
-    let label = format!("{} n = {n}", s.config.smoothing.name());
+    let label = format!("{} n = {n}", s.config.formulation.smoothing_name());
     let mut run = Run {
         label,
         formulation,
@@ -479,17 +490,17 @@ pub fn run(
     let v = variant(name).expect("a Sedov problem");
     let base = settings(v, params)?;
     let resolutions = resolutions(name, params)?;
-    let formulations = params.choices(
-        "smoothing",
-        &SmoothingLength::all(base.eta),
-        SmoothingLength::name,
-    )?;
+    let formulations = params
+        .choices("smoothing", &Density::SMOOTHING, |name| name)?
+        .into_iter()
+        .map(|smoothing| formulation(v, smoothing, base.eta))
+        .collect::<Result<Vec<_>, _>>()?;
     let total = (resolutions.len() * formulations.len()) as f64;
     let mut blasts: Vec<(usize, BlastRun)> = Vec::new();
-    for (f, &smoothing) in formulations.iter().enumerate() {
+    for (f, &formulation) in formulations.iter().enumerate() {
         let s = Settings {
             config: SimulationConfig {
-                smoothing,
+                formulation,
                 ..base.config
             },
             ..base
@@ -516,13 +527,13 @@ pub fn run(
         Level::Quick => v.radius_limit.0,
         Level::Full => v.radius_limit.1,
     };
-    for (f, smoothing) in formulations.iter().enumerate() {
+    for (f, formulation) in formulations.iter().enumerate() {
         let runs: Vec<&Run> = blasts
             .iter()
             .filter(|(g, _)| *g == f)
             .map(|(_, b)| &b.run)
             .collect();
-        let tag = smoothing.name();
+        let tag = formulation.smoothing_name();
         let spacing: Vec<f64> = runs.iter().map(|r| r.spacing).collect();
         let l1: Vec<f64> = runs.iter().map(|r| r.errors["l1_rho"]).collect();
         if let Some(p) = observed_order(&spacing, &l1) {
@@ -598,7 +609,7 @@ pub fn run(
         let n = *resolutions.iter().min().expect("one resolution");
         let s = Settings {
             config: SimulationConfig {
-                smoothing: formulations[0],
+                formulation: formulations[0],
                 ..base.config
             },
             ..base

@@ -18,12 +18,12 @@ use crate::riemann::{self, GasState, RiemannSolution};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
+use blastsph_solver::formulation::ETA_RANGE;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::random::SplitMix64;
-use blastsph_solver::step::ETA_RANGE;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, Geometry, IdealGas,
-    KernelShape, Material, Simulation, SimulationConfig, SmoothingLength, Vector,
+    ArtificialViscosity, Boundary, Density, Domain, EnergyEquation, Formulation, IdealGas,
+    KernelShape, Material, Simulation, SimulationConfig, Vector,
 };
 use std::collections::BTreeMap;
 
@@ -191,11 +191,14 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
     let gamma = params.number("gamma", 1.0 + 1e-9, 10.0)?;
     let t_end = params.number("t_end", 1e-9, 10.0)?;
     let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
+    let density = Density::from_names(
+        params.choice("density", &Density::METHODS, |name| name)?,
+        params.choice("smoothing", &Density::SMOOTHING, |name| name)?,
+        eta,
+    )?;
     let config = SimulationConfig {
-        axisymmetric: false,
-        geometry: Geometry::Planar,
+        formulation: Formulation::Cartesian(density),
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
-        density: params.choice("density", &DensityMethod::ALL, DensityMethod::name)?,
         viscosity: ArtificialViscosity {
             alpha: params.number("alpha", 0.0, 10.0)?,
             beta: params.number("beta", 0.0, 10.0)?,
@@ -203,15 +206,9 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
             ..ArtificialViscosity::default()
         },
         energy: params.choice("energy", &EnergyEquation::ALL, EnergyEquation::name)?,
-        smoothing: params.choice(
-            "smoothing",
-            &SmoothingLength::all(eta),
-            SmoothingLength::name,
-        )?,
         cfl: params.cfl()?,
         // a step 1e-9 of the run's length means the run would need 1e9 steps: collapsed
         min_time_step: 1e-9 * t_end,
-        solids: blastsph_solver::SolidFormulation::Updated,
     };
     case.t_out = t_end;
     let table = (case.left, case.right);
@@ -335,7 +332,12 @@ fn setup(s: &Settings, n_left: usize) -> (Vec<ParticleInit<1>>, Domain<1>) {
 
 /// "density, smoothing length": what distinguishes one work–precision curve from another.
 pub(crate) fn formulation(config: &SimulationConfig) -> String {
-    format!("{}, {}", config.density.name(), config.smoothing.name())
+    let formulation = config.formulation;
+    format!(
+        "{}, {}",
+        formulation.density_name(),
+        formulation.smoothing_name()
+    )
 }
 
 fn run_tube(
@@ -634,16 +636,13 @@ fn eta_sensitivity(s: &Settings, exact: &RiemannSolution) -> Result<Vec<Run>, Ve
     let mut rows = Vec::new();
     for factor in [0.5, 2.0] {
         let eta = (s.eta * factor).clamp(ETA_RANGE.0, ETA_RANGE.1);
-        let Some(smoothing) = SmoothingLength::all(eta)
-            .into_iter()
-            .find(|m| m.name() == s.config.smoothing.name())
-        else {
+        let Formulation::Cartesian(density) = s.config.formulation else {
             continue;
         };
         let varied = Settings {
             eta,
             config: SimulationConfig {
-                smoothing,
+                formulation: Formulation::Cartesian(density.with_eta(eta)),
                 ..s.config
             },
             ..*s

@@ -35,8 +35,8 @@ use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::{full_contraction, von_mises};
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, Material, SimulationConfig,
-    SmoothingLength, SolidFormulation, Strength, Vector, ViscositySwitch,
+    ArtificialViscosity, Boundary, Density, Domain, Formulation, Material, SimulationConfig,
+    SmoothingLength, SolverError, Strength, Vector, ViscositySwitch,
 };
 use std::f64::consts::PI;
 
@@ -255,7 +255,7 @@ fn bar_particles<const D: usize>(n_radius: usize, density: f64, eta: f64) -> Vec
 fn run_model(
     model: Model,
     n_radius: usize,
-    settings: (f64, f64, ArtificialViscosity, SolidFormulation),
+    settings: (f64, f64, ArtificialViscosity, Option<f64>),
     t_end: f64,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
@@ -268,7 +268,7 @@ fn run_model(
 fn run_one<const D: usize>(
     model: Model,
     n_radius: usize,
-    (cfl, eta, viscosity, solids): (f64, f64, ArtificialViscosity, SolidFormulation),
+    (cfl, eta, viscosity, hourglass): (f64, f64, ArtificialViscosity, Option<f64>),
     t_end: f64,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
@@ -288,21 +288,24 @@ fn run_one<const D: usize>(
         [Boundary::Wall; D],
         [Boundary::Open; D],
     )?;
+    let smoothing = SmoothingLength::FollowDensity { eta };
+    let formulation = match (hourglass, model) {
+        (Some(hourglass), _) => Formulation::TotalLagrangian { hourglass },
+        (None, Model::Axisymmetric) => Formulation::Axisymmetric(smoothing),
+        (None, Model::Quarter) => Formulation::Cartesian(Density::Continuity(smoothing)),
+    };
     let config = SimulationConfig {
-        axisymmetric: model == Model::Axisymmetric,
-        density: DensityMethod::Continuity,
-        smoothing: SmoothingLength::FollowDensity { eta },
+        formulation,
         cfl,
         viscosity,
         min_time_step: 1e-9 * t_end,
-        solids,
         ..SimulationConfig::default()
     };
     let whole = model.whole_bar_factor();
     let kinetic0: f64 = init.iter().map(|p| 0.5 * p.mass * SPEED * SPEED).sum();
     let mut run = Run::new(
         format!("n_radius = {n_radius}"),
-        solids.name(),
+        formulation.solids_name(),
         init.len(),
         dx,
     );
@@ -397,7 +400,7 @@ fn run_one<const D: usize>(
         "artificial_stress_work_j".into(),
         -whole * heat.artificial_stress,
     );
-    if let SolidFormulation::TotalLagrangian { .. } = solids {
+    if formulation.is_total_lagrangian() {
         m.insert("hourglass_work_j".into(), -whole * heat.hourglass);
     }
     m.insert(
@@ -441,7 +444,7 @@ pub fn run(
     let resolutions = params.integers("n_radius", 2, 60)?;
     let cfl = params.cfl()?;
     let t_end = params.number("t_end", 1e-7, 2e-4)?;
-    let (eta_low, eta_high) = blastsph_solver::step::ETA_RANGE;
+    let (eta_low, eta_high) = blastsph_solver::formulation::ETA_RANGE;
     let eta = params.number("eta", eta_low, eta_high)?;
     let viscosity = ArtificialViscosity {
         alpha: params.number("alpha", 0.0, 10.0)?,
@@ -468,6 +471,7 @@ pub fn run(
         }),
         ..viscosity
     };
+    // the hourglass coefficient of total-Lagrangian solids, None for the updated form
     let solids = match params.choice("solids", &[false, true], |total| {
         if total {
             "total-lagrangian"
@@ -475,10 +479,16 @@ pub fn run(
             "updated"
         }
     })? {
-        false => SolidFormulation::Updated,
-        true => SolidFormulation::TotalLagrangian {
-            hourglass: params.number("hourglass", 0.0, 100.0)?,
-        },
+        false => None,
+        true if model == Model::Axisymmetric => {
+            return Err(SolverError::invalid(
+                "solids",
+                "total-lagrangian",
+                "updated in the axisymmetric model (the total-Lagrangian form is Cartesian)",
+            )
+            .into())
+        }
+        true => Some(params.number("hourglass", 0.0, 100.0)?),
     };
     let mut measured = Vec::new();
     for (k, &n) in resolutions.iter().enumerate() {
@@ -568,19 +578,19 @@ pub fn run(
         let n = resolutions[(0..resolutions.len())
             .min_by_key(|&k| resolutions[k])
             .expect("one resolution")];
-        let variants: Vec<(String, ArtificialViscosity, SolidFormulation)> = match solids {
-            SolidFormulation::TotalLagrangian { hourglass } => [0.5, 2.0]
+        let variants: Vec<(String, ArtificialViscosity, Option<f64>)> = match solids {
+            Some(hourglass) => [0.5, 2.0]
                 .iter()
                 .map(|f| {
                     let varied = hourglass * f;
                     (
                         format!("hourglass = {varied} (default {hourglass})"),
                         viscosity,
-                        SolidFormulation::TotalLagrangian { hourglass: varied },
+                        Some(varied),
                     )
                 })
                 .collect(),
-            SolidFormulation::Updated => vec![(
+            None => vec![(
                 format!(
                     "balsara = {} (default {})",
                     if viscosity.balsara { "off" } else { "on" },

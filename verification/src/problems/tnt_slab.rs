@@ -29,8 +29,8 @@ use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, DensityMethod, Domain, EnergyEquation, Geometry, Jwl,
-    KernelShape, ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Vector,
+    ArtificialViscosity, Boundary, Density, Domain, EnergyEquation, Formulation, Jwl, KernelShape,
+    ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Vector,
 };
 
 pub const NAME: &str = "tnt-slab";
@@ -195,16 +195,14 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let length = params.number("length", 1e-4, 10.0)?;
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
-        axisymmetric: false,
-        geometry: Geometry::Planar,
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
+            eta,
+        })),
         kernel: KernelShape::CubicSpline,
-        density: DensityMethod::Continuity,
         viscosity: ArtificialViscosity::default(),
         energy: EnergyEquation::OwnPressure,
-        smoothing: SmoothingLength::FollowDensity { eta },
         cfl: params.cfl()?,
         min_time_step: 1e-9 * length / detonation.speed,
-        solids: blastsph_solver::SolidFormulation::Updated,
     };
     Ok(Settings {
         length,

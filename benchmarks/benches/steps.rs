@@ -1,11 +1,11 @@
-//! `cargo bench`: kernel evaluation, neighbour search (cell-grid build alone, and build plus
-//! the query of every particle; 10⁴ and 10⁵ particles, 2D and 3D, jittered lattice,
-//! h = 1.2 Δx), one full SPH step for 10⁵ particles in 3D, and a whole problem run as the
-//! cost target states it: the axisymmetric Taylor bar at its coarse quick resolution
-//! (6 rings across; the target is "well under a minute" for the quick level). Throughput is
-//! reported in elements per second: kernel evaluations, particles searched, particle updates.
+//! `cargo bench --bench steps` (a few minutes, run on every change): kernel evaluation,
+//! neighbour search (cell-grid build alone, and build plus the query of every particle; 10⁴
+//! and 10⁵ particles, 2D and 3D, jittered lattice, h = 1.2 Δx) and one full SPH step of 10⁵
+//! particles in 2D and in 3D. Throughput is reported in elements per second: kernel
+//! evaluations, particles searched, particle updates. Whole problems are timed by the
+//! `problems` bench.
 
-use blastsph_benchmarks::{gas_cube, jittered_lattice};
+use blastsph_benchmarks::{gas_box, jittered_lattice};
 use blastsph_solver::neighbours::{find_neighbours, CellGrid, PairReach};
 use blastsph_solver::{Kernel, KernelShape};
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
@@ -57,15 +57,15 @@ fn neighbours(c: &mut Criterion) {
     neighbour_search::<3>(c, 100_000);
 }
 
-fn full_step(c: &mut Criterion) {
-    let mut sim = gas_cube(100_000);
+/// One step of the gas box at 10⁵ particles, taking the stable step as a run would.
+fn full_step<const D: usize>(c: &mut Criterion) {
+    let mut sim = gas_box::<D>(100_000);
     let n = sim.particles().n_real();
-    let mut group = c.benchmark_group("sph step 3D");
+    let mut group = c.benchmark_group(format!("sph step {D}D"));
     group.throughput(Throughput::Elements(n as u64));
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(10));
-    // each iteration takes the stable step, as a run would
     group.bench_function(BenchmarkId::new("density+forces+integration", n), |b| {
         b.iter(|| {
             let dt = sim.stable_time_step().unwrap();
@@ -75,44 +75,10 @@ fn full_step(c: &mut Criterion) {
     group.finish();
 }
 
-fn whole_problems(c: &mut Criterion) {
-    use blastsph_verification::{problems, Level};
-    let mut group = c.benchmark_group("problem");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(60));
-    let overrides = vec![("n_radius".to_string(), "6".to_string())];
-    group.bench_function("taylor-bar-axisymmetric n_radius=6", |b| {
-        b.iter(|| {
-            problems::run("taylor-bar-axisymmetric", Level::Quick, &overrides, &|_| {})
-                .expect("runs")
-        })
-    });
-    group.finish();
+fn full_steps(c: &mut Criterion) {
+    full_step::<2>(c);
+    full_step::<3>(c);
 }
 
-/// One full-size biaxial test as the `biaxial` problem runs it: 1700 grains at 10 %
-/// saturation and σ3 = 1 kPa, prepared, wetted, wrapped, consolidated and loaded to 10 % axial
-/// strain at the problem's quasi-static platen speed (the target: under two minutes on the
-/// 2-core machine). Ten samples take over ten minutes.
-fn biaxial_test(c: &mut Criterion) {
-    use blastsph_verification::problems::biaxial_run;
-    let mut group = c.benchmark_group("dem");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(600));
-    group.bench_function("biaxial 1700 grains S=10% sigma3=1kPa to 10%", |b| {
-        b.iter(|| biaxial_run(1700, 1, 0.1, 1000.0, 0.1).expect("runs"))
-    });
-    group.finish();
-}
-
-criterion_group!(
-    benches,
-    kernels,
-    neighbours,
-    full_step,
-    whole_problems,
-    biaxial_test
-);
+criterion_group!(benches, kernels, neighbours, full_steps);
 criterion_main!(benches);

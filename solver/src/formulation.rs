@@ -1,0 +1,334 @@
+//! The formulation of a scene: its coordinates, how density and smoothing lengths are found,
+//! and how solids are discretised, as one type whose variants are exactly the combinations the
+//! solver implements (grad-h exists only with summation density, an axisymmetric scene only
+//! with continuity density, a radial one only with summation density and a plain h rule).
+//! What a type cannot say, the dimension a formulation needs, is checked when the simulation
+//! is built, naming the field.
+
+use crate::error::SolverError;
+use crate::neighbours::PairReach;
+use crate::physics::PairKernel;
+use crate::radial::Geometry;
+
+/// How each particle's smoothing length follows the flow, where it is not solved with the
+/// density.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SmoothingLength {
+    /// h stays as given.
+    Fixed,
+    /// h_i = η (m_i/ρ_i)^{1/D} from the latest density, before each neighbour search. Each
+    /// pair uses W(r, h̄_ij); energy is conserved up to the change of h between steps.
+    FollowDensity { eta: f64 },
+}
+
+impl SmoothingLength {
+    pub fn name(self) -> &'static str {
+        match self {
+            SmoothingLength::Fixed => "fixed",
+            SmoothingLength::FollowDensity { .. } => "follow-density",
+        }
+    }
+
+    fn with_eta(self, eta: f64) -> Self {
+        match self {
+            SmoothingLength::Fixed => SmoothingLength::Fixed,
+            SmoothingLength::FollowDensity { .. } => SmoothingLength::FollowDensity { eta },
+        }
+    }
+}
+
+/// How density, and with it the smoothing length, is obtained in a Cartesian scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Density {
+    /// ρ_i = Σ_j m_j W_ij (self term included): exact mass conservation, smooths contact jumps.
+    Summation(SmoothingLength),
+    /// Grad-h SPH: h_i = η (m_i/ρ_i)^{1/D} and ρ_i = Σ_j m_j W(r_ij, h_i) solved together by
+    /// Newton–Raphson until a step changes h by less than `tolerance`·h, with the Ω terms in
+    /// momentum and energy (Springel & Hernquist 2002; Price 2012), so that total energy is
+    /// conserved to the integrator's accuracy.
+    GradH { eta: f64, tolerance: f64 },
+    /// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij · ∇_i W_ij: keeps density jumps sharp (the seed
+    /// recommends it for strong discontinuities); the initial density is the prescribed one.
+    /// The velocity divergence is weighted by the neighbours' volumes m_j/ρ_j rather than by
+    /// m_j/ρ_i (the seed's Σ m_j v_ij·∇W form): across a material interface, where neighbours
+    /// of equal size differ in mass by the density ratio, only the volume weights estimate
+    /// ∇·v consistently (Monaghan 1992 §2; Colagrossi & Landrini 2003 for density ratios of
+    /// 1000). In a single material with a smooth density both forms agree to O(h²).
+    Continuity(SmoothingLength),
+}
+
+/// The default grad-h tolerance: the Ω terms assume h and ρ agree exactly, and a relative
+/// mismatch δ shows up as an energy error of order δ per step; 1e-6 keeps that below the
+/// integrator's error at a cost of one or two extra density passes.
+pub const GRAD_H_TOLERANCE: f64 = 1e-6;
+
+/// The allowed range of η = h/(m/ρ)^{1/D}: from under one neighbour spacing to four.
+pub const ETA_RANGE: (f64, f64) = (0.5, 4.0);
+
+impl Density {
+    /// The names the command line and the reports use for the density method.
+    pub const METHODS: [&'static str; 2] = ["summation", "continuity"];
+    /// The names of the ways h is found.
+    pub const SMOOTHING: [&'static str; 3] = ["fixed", "follow-density", "grad-h"];
+
+    /// The density method and h rule named by `method` (one of [`Density::METHODS`]) and
+    /// `smoothing` (one of [`Density::SMOOTHING`]), with η where h follows the density and
+    /// the default grad-h tolerance.
+    pub fn from_names(method: &str, smoothing: &str, eta: f64) -> Result<Self, SolverError> {
+        let rule = match smoothing {
+            "fixed" => SmoothingLength::Fixed,
+            "follow-density" => SmoothingLength::FollowDensity { eta },
+            "grad-h" if method == "summation" => {
+                return Ok(Density::GradH {
+                    eta,
+                    tolerance: GRAD_H_TOLERANCE,
+                })
+            }
+            "grad-h" => {
+                return Err(SolverError::invalid(
+                    "density",
+                    method,
+                    "summation (grad-h solves h with the summation density)",
+                ))
+            }
+            other => {
+                return Err(SolverError::invalid(
+                    "smoothing",
+                    other,
+                    &Self::SMOOTHING.join(", "),
+                ))
+            }
+        };
+        match method {
+            "summation" => Ok(Density::Summation(rule)),
+            "continuity" => Ok(Density::Continuity(rule)),
+            other => Err(SolverError::invalid(
+                "density",
+                other,
+                &Self::METHODS.join(", "),
+            )),
+        }
+    }
+
+    /// "summation", "continuity".
+    pub fn method_name(self) -> &'static str {
+        match self {
+            Density::Summation(_) | Density::GradH { .. } => "summation",
+            Density::Continuity(_) => "continuity",
+        }
+    }
+
+    /// "fixed", "follow-density", "grad-h".
+    pub fn smoothing_name(self) -> &'static str {
+        match self {
+            Density::Summation(rule) | Density::Continuity(rule) => rule.name(),
+            Density::GradH { .. } => "grad-h",
+        }
+    }
+
+    /// The same method with η replaced, where h follows the density.
+    pub fn with_eta(self, eta: f64) -> Self {
+        match self {
+            Density::Summation(rule) => Density::Summation(rule.with_eta(eta)),
+            Density::Continuity(rule) => Density::Continuity(rule.with_eta(eta)),
+            Density::GradH { tolerance, .. } => Density::GradH { eta, tolerance },
+        }
+    }
+}
+
+/// The formulation of a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Formulation {
+    /// Cartesian coordinates in D dimensions, the kernel moving with the particles (solids
+    /// then need the artificial stress where they stretch).
+    Cartesian(Density),
+    /// D = 2: x is the distance r from an axis of symmetry and y is z; each particle is a ring
+    /// whose mass is the particle's (see [`crate::axisymmetric`]); continuity density (summed
+    /// ring masses smear η near the axis). Needs a wall at r = 0 (the axis).
+    Axisymmetric(SmoothingLength),
+    /// D = 1 in the distance from an axis, masses per unit length; summation density with the
+    /// ring-averaged kernel (see [`crate::radial`]); fluids only.
+    Cylindrical(SmoothingLength),
+    /// D = 1 in the distance from a point, masses of whole shells; as `Cylindrical`.
+    Spherical(SmoothingLength),
+    /// Solids only, the kernel in the reference configuration (see
+    /// [`crate::total_lagrangian`]), with the hourglass control coefficient κ; density
+    /// ρ0/det F and h from the deformation.
+    TotalLagrangian { hourglass: f64 },
+}
+
+impl Formulation {
+    /// The symmetry of the scene: planar, or 1D cylindrical or spherical.
+    pub fn geometry(self) -> Geometry {
+        match self {
+            Formulation::Cylindrical(_) => Geometry::Cylindrical,
+            Formulation::Spherical(_) => Geometry::Spherical,
+            _ => Geometry::Planar,
+        }
+    }
+
+    pub fn is_axisymmetric(self) -> bool {
+        matches!(self, Formulation::Axisymmetric(_))
+    }
+
+    pub fn is_total_lagrangian(self) -> bool {
+        matches!(self, Formulation::TotalLagrangian { .. })
+    }
+
+    /// The dimension the formulation needs, where it needs one.
+    pub fn dimension(self) -> Option<usize> {
+        match self {
+            Formulation::Axisymmetric(_) => Some(2),
+            Formulation::Cylindrical(_) | Formulation::Spherical(_) => Some(1),
+            _ => None,
+        }
+    }
+
+    /// Density integrated by the continuity equation (the particles carry Dρ/Dt).
+    pub fn integrates_density(self) -> bool {
+        matches!(
+            self,
+            Formulation::Cartesian(Density::Continuity(_)) | Formulation::Axisymmetric(_)
+        )
+    }
+
+    /// Density summed over the neighbours each step, with h found before the sum.
+    pub fn sums_density(self) -> bool {
+        matches!(
+            self,
+            Formulation::Cartesian(Density::Summation(_))
+                | Formulation::Cylindrical(_)
+                | Formulation::Spherical(_)
+        )
+    }
+
+    /// η and the tolerance, where h is solved with the density (grad-h).
+    pub fn grad_h(self) -> Option<(f64, f64)> {
+        match self {
+            Formulation::Cartesian(Density::GradH { eta, tolerance }) => Some((eta, tolerance)),
+            _ => None,
+        }
+    }
+
+    /// The h rule, where h is not solved with the density nor set by the deformation.
+    pub fn smoothing(self) -> Option<SmoothingLength> {
+        match self {
+            Formulation::Cartesian(Density::Summation(rule) | Density::Continuity(rule))
+            | Formulation::Axisymmetric(rule)
+            | Formulation::Cylindrical(rule)
+            | Formulation::Spherical(rule) => Some(rule),
+            _ => None,
+        }
+    }
+
+    /// η, where h follows or is solved with the density.
+    pub fn eta(self) -> Option<f64> {
+        match (self.grad_h(), self.smoothing()) {
+            (Some((eta, _)), _) | (_, Some(SmoothingLength::FollowDensity { eta })) => Some(eta),
+            _ => None,
+        }
+    }
+
+    /// "summation", "continuity" (radial formulations sum; total-Lagrangian: "reference").
+    pub fn density_name(self) -> &'static str {
+        match self {
+            Formulation::Cartesian(density) => density.method_name(),
+            Formulation::Axisymmetric(_) => "continuity",
+            Formulation::Cylindrical(_) | Formulation::Spherical(_) => "summation",
+            Formulation::TotalLagrangian { .. } => "reference",
+        }
+    }
+
+    /// "fixed", "follow-density", "grad-h" ("deformation" for total-Lagrangian solids).
+    pub fn smoothing_name(self) -> &'static str {
+        match self {
+            Formulation::Cartesian(density) => density.smoothing_name(),
+            Formulation::TotalLagrangian { .. } => "deformation",
+            _ => self.smoothing().map_or("fixed", SmoothingLength::name),
+        }
+    }
+
+    /// How solids are discretised: "updated" (the kernel moves with the particles) or
+    /// "total-lagrangian".
+    pub fn solids_name(self) -> &'static str {
+        if self.is_total_lagrangian() {
+            "total-lagrangian"
+        } else {
+            "updated"
+        }
+    }
+
+    /// Which kernel a pair uses: each side its own h with grad-h, the mean h otherwise.
+    pub(crate) fn pair_kernel(self) -> PairKernel {
+        match self.grad_h() {
+            Some(_) => PairKernel::OwnH,
+            None => PairKernel::MeanH,
+        }
+    }
+
+    /// How far the neighbour search reaches for a pair.
+    pub(crate) fn pair_reach(self) -> PairReach {
+        match self.grad_h() {
+            Some(_) => PairReach::LargerH,
+            None => PairReach::MeanH,
+        }
+    }
+
+    /// η within [`ETA_RANGE`], the grad-h tolerance within (0, 1e-2], κ within [0, 100].
+    pub fn validate(self) -> Result<(), SolverError> {
+        if let Some(eta) = self.eta() {
+            let (lo, hi) = ETA_RANGE;
+            if !(lo..=hi).contains(&eta) {
+                return Err(SolverError::invalid(
+                    "eta",
+                    eta,
+                    &format!("{lo} ≤ η ≤ {hi}"),
+                ));
+            }
+        }
+        if let Some((_, tolerance)) = self.grad_h() {
+            if !(tolerance > 0.0 && tolerance <= 1e-2) {
+                return Err(SolverError::invalid(
+                    "grad-h tolerance",
+                    tolerance,
+                    "0 < tolerance ≤ 1e-2",
+                ));
+            }
+        }
+        if let Formulation::TotalLagrangian { hourglass } = self {
+            if !(0.0..=100.0).contains(&hourglass) {
+                return Err(SolverError::invalid(
+                    "hourglass coefficient",
+                    hourglass,
+                    "0 ≤ κ ≤ 100",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_compose_and_grad_h_needs_summation() {
+        for method in Density::METHODS {
+            for smoothing in Density::SMOOTHING {
+                match Density::from_names(method, smoothing, 1.2) {
+                    Ok(density) => {
+                        assert_eq!(density.method_name(), method);
+                        assert_eq!(density.smoothing_name(), smoothing);
+                    }
+                    Err(error) => {
+                        assert_eq!((method, smoothing), ("continuity", "grad-h"));
+                        assert!(error.to_string().contains("density"), "{error}");
+                    }
+                }
+            }
+        }
+        let error = Density::from_names("summation", "adaptive", 1.2).unwrap_err();
+        assert!(error.to_string().contains("smoothing"), "{error}");
+    }
+}
