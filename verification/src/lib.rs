@@ -15,6 +15,7 @@ pub mod problems;
 pub mod record;
 pub mod report;
 pub mod riemann;
+pub mod scaled;
 pub mod sedov;
 pub mod svg;
 pub mod vtk;
