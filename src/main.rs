@@ -104,6 +104,32 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Scaled-distance relations for a charge at a range: Kingery–Bulmash air blast and, with
+    /// --soil, TM 5-855-1 free-field ground shock (SI; Z = R/W^(1/3) with W in kg TNT).
+    Scaled {
+        /// Charge mass (kg of the explosive).
+        #[arg(long, allow_negative_numbers = true)]
+        charge: f64,
+        /// Range from the charge (m).
+        #[arg(long, allow_negative_numbers = true)]
+        range: f64,
+        /// surface (hemispherical on the ground), free-air or buried.
+        #[arg(long, default_value = "surface")]
+        burst: String,
+        /// Depth of the charge's centre below the ground (m; negative above it): sets the
+        /// ground-shock coupling factor. Needed for a buried charge; 0 for a surface burst.
+        #[arg(long, allow_negative_numbers = true)]
+        depth_of_burst: Option<f64>,
+        /// tnt or c4.
+        #[arg(long, default_value = "tnt")]
+        explosive: String,
+        /// A soil of the TM 5-855-1 table for the ground shock: loose-dry-sand,
+        /// dry-sand-backfill, dense-sand, wet-sandy-clay, saturated-sandy-clay, saturated-clay.
+        #[arg(long)]
+        soil: Option<String>,
+        #[arg(long)]
+        json: bool,
+    },
     /// Moist soil at grain scale: liquid bridges between grains.
     Soil {
         #[command(subcommand)]
@@ -227,6 +253,24 @@ fn main() -> ExitCode {
             json,
         } => riemann_command(&left, &right, gamma, json).map(|_| true),
         Command::Soil { command } => soil_command(command).map(|_| true),
+        Command::Scaled {
+            charge,
+            range,
+            burst,
+            depth_of_burst,
+            explosive,
+            soil,
+            json,
+        } => scaled_command(
+            charge,
+            range,
+            &burst,
+            depth_of_burst,
+            &explosive,
+            soil.as_deref(),
+            json,
+        )
+        .map(|_| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
@@ -472,6 +516,76 @@ fn impedance_command(
             100.0 * (u / case.up - 1.0),
             100.0 * (p / case.p - 1.0)
         );
+    }
+    Ok(())
+}
+
+fn scaled_command(
+    charge: f64,
+    range: f64,
+    burst: &str,
+    depth_of_burst: Option<f64>,
+    explosive: &str,
+    soil: Option<&str>,
+    json: bool,
+) -> Result<(), VerifyError> {
+    use blastsph_verification::scaled::{explosives, ground_shock, query};
+    let placement = query::Placement::ALL
+        .into_iter()
+        .find(|p| p.name() == burst)
+        .ok_or_else(|| VerifyError::bad_value("--burst", burst, "surface, free-air or buried"))?;
+    let soil = soil.map(ground_shock::soil).transpose()?;
+    let report = query::scaled_report(
+        charge,
+        explosives::explosive(explosive)?,
+        range,
+        placement,
+        depth_of_burst,
+        soil,
+    )?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("json"));
+        return Ok(());
+    }
+    println!(
+        "{} kg {} {} burst at {} m: Z = {:.4} m/kg^(1/3)",
+        report.charge_kg, report.explosive, report.burst, report.range_m, report.z
+    );
+    let line = |what: &str, value: Option<f64>, unit: &str| match value {
+        Some(v) => println!("  {what:<28} {v:.4e} {unit}"),
+        None => println!("  {what:<28} —"),
+    };
+    if placement != query::Placement::Buried {
+        println!("air blast (Kingery–Bulmash)");
+        line(
+            "incident overpressure",
+            report.incident_overpressure_pa,
+            "Pa",
+        );
+        line(
+            "reflected overpressure",
+            report.reflected_overpressure_pa,
+            "Pa",
+        );
+        line("arrival", report.arrival_s, "s");
+        line("positive duration", report.duration_s, "s");
+        line("incident impulse", report.incident_impulse_pa_s, "Pa s");
+        line("reflected impulse", report.reflected_impulse_pa_s, "Pa s");
+    }
+    if let (Some(shock), Some(soil)) = (&report.ground_shock, report.soil) {
+        println!(
+            "ground shock in {soil} (TM 5-855-1, f = {:.3})",
+            shock.coupling_factor
+        );
+        line(
+            "peak particle velocity",
+            Some(shock.peak_velocity_m_s),
+            "m/s",
+        );
+        line("peak stress", Some(shock.peak_stress_pa), "Pa");
+        line("impulse", Some(shock.impulse_pa_s), "Pa s");
+        line("arrival", Some(shock.arrival_s), "s");
+        line("rise time", Some(shock.rise_s), "s");
     }
     Ok(())
 }

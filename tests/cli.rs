@@ -590,3 +590,78 @@ fn calculator_json_matches_the_reviewed_snapshots() {
         insta::assert_json_snapshot!(name, common::reviewable(json, &[]));
     }
 }
+
+/// `scaled` on the MSB worked example (125 kg C-4 buried at 4 m, 5 m away in dry sand and
+/// backfill: u0 3.84 m/s, P0 1907 kPa, I0 31.0 kPa·s, t_a 16.4 ms) and the JSON fields of a
+/// surface burst.
+#[test]
+fn scaled_prints_air_blast_and_ground_shock_as_json() {
+    let out = blastsph(&[
+        "scaled",
+        "--charge",
+        "125",
+        "--range",
+        "5",
+        "--burst",
+        "buried",
+        "--depth-of-burst",
+        "4",
+        "--explosive",
+        "c4",
+        "--soil",
+        "dry-sand-backfill",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let shock = &json["ground_shock"];
+    assert!((shock["peak_velocity_m_s"].as_f64().unwrap() - 3.84).abs() <= 0.005);
+    assert!((shock["peak_stress_pa"].as_f64().unwrap() - 1907e3).abs() <= 0.5e3);
+    assert!((shock["impulse_pa_s"].as_f64().unwrap() - 31.0e3).abs() <= 0.05e3);
+    assert!((shock["arrival_s"].as_f64().unwrap() - 16.4e-3).abs() <= 0.05e-3);
+    assert_eq!(shock["coupling_factor"].as_f64(), Some(1.0));
+    assert!(json["incident_overpressure_pa"].is_null());
+    let out = blastsph(&["scaled", "--charge", "500", "--range", "20", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for field in [
+        "z",
+        "incident_overpressure_pa",
+        "reflected_overpressure_pa",
+        "arrival_s",
+        "duration_s",
+        "incident_impulse_pa_s",
+        "reflected_impulse_pa_s",
+    ] {
+        assert!(json[field].as_f64().is_some_and(|v| v > 0.0), "{field}");
+    }
+}
+
+/// Bad input exits 2 naming the value and its allowed range.
+#[test]
+fn scaled_refuses_bad_input_by_name() {
+    for (args, named) in [
+        (vec!["--charge", "-5", "--range", "20"], "charge mass"),
+        (vec!["--charge", "5", "--range", "2000"], "0.0674 ≤ Z ≤ 40"),
+        (
+            vec!["--charge", "5", "--range", "20", "--soil", "peat"],
+            "dense-sand",
+        ),
+        (
+            vec!["--charge", "5", "--range", "20", "--explosive", "semtex"],
+            "tnt, c4",
+        ),
+        (
+            vec!["--charge", "5", "--range", "20", "--burst", "underwater"],
+            "buried",
+        ),
+        (
+            vec!["--charge", "5", "--range", "20", "--burst", "buried"],
+            "depth of burst",
+        ),
+    ] {
+        let out = blastsph(&[&["scaled"], args.as_slice()].concat());
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(named), "{args:?}: {}", stderr(&out));
+    }
+}

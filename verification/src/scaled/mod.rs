@@ -17,6 +17,7 @@
 pub mod air_blast;
 pub mod explosives;
 pub mod ground_shock;
+pub mod query;
 
 use crate::VerifyError;
 
