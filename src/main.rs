@@ -9,7 +9,7 @@ use blastsph_verification::sedov::{geometry_named, SedovBlast};
 use blastsph_verification::{problems, report, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -127,6 +127,17 @@ enum Command {
         /// dry-sand-backfill, dense-sand, wet-sandy-clay, saturated-sandy-clay, saturated-clay.
         #[arg(long)]
         soil: Option<String>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Check a table of first-arrival times (CSV: depth_m,charge_kg,gauge,arrival_ms) against
+    /// the earliest arrival physics allows, depth / c_max (c_max: the fastest wave the soil
+    /// and the concrete lining carry). Exit 1 if any entry is impossible.
+    CheckArrivals {
+        file: PathBuf,
+        /// A compaction soil of the material library.
+        #[arg(long, default_value = "dry-sand")]
+        soil: String,
         #[arg(long)]
         json: bool,
     },
@@ -253,6 +264,7 @@ fn main() -> ExitCode {
             json,
         } => riemann_command(&left, &right, gamma, json).map(|_| true),
         Command::Soil { command } => soil_command(command).map(|_| true),
+        Command::CheckArrivals { file, soil, json } => check_arrivals_command(&file, &soil, json),
         Command::Scaled {
             charge,
             range,
@@ -518,6 +530,44 @@ fn impedance_command(
         );
     }
     Ok(())
+}
+
+fn check_arrivals_command(file: &Path, soil: &str, json: bool) -> Result<bool, VerifyError> {
+    use blastsph_verification::scaled::arrivals;
+    let text = std::fs::read_to_string(file).map_err(|error| {
+        VerifyError::bad_value(
+            "arrivals file",
+            format!("{} ({error})", file.display()),
+            "a readable CSV file",
+        )
+    })?;
+    let table = arrivals::read_arrivals(&text, &file.display().to_string())?;
+    let report = arrivals::check_arrivals(&Library::standard(), soil, &table)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("json"));
+    } else {
+        println!(
+            "c_max = {:.0} m/s (the fastest of {} and {}): no arrival at depth d before d / c_max",
+            report.c_max_m_s, report.soil, report.lining
+        );
+        println!(
+            "{:>8} {:>10} {:>8} {:>12} {:>14} {:>14}  verdict",
+            "depth m", "charge kg", "gauge", "arrival s", "implied m/s", "earliest s"
+        );
+        for e in &report.entries {
+            println!(
+                "{:>8} {:>10} {:>8} {:>12.4e} {:>14.4e} {:>14.4e}  {}",
+                e.depth_m,
+                e.charge_kg,
+                e.gauge,
+                e.arrival_s,
+                e.implied_speed_m_s,
+                e.min_possible_arrival_s,
+                if e.possible { "possible" } else { "IMPOSSIBLE" }
+            );
+        }
+    }
+    Ok(report.all_possible())
 }
 
 fn scaled_command(

@@ -665,3 +665,44 @@ fn scaled_refuses_bad_input_by_name() {
         assert!(stderr(&out).contains(named), "{args:?}: {}", stderr(&out));
     }
 }
+
+/// `check-arrivals` on the thesis table: every entry impossible, exit 1; a physically possible
+/// table passes with exit 0; a missing file exits 2 naming it.
+#[test]
+fn check_arrivals_flags_the_thesis_table() {
+    let thesis = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/reference_data/thesis_arrivals.csv"
+    );
+    let out = blastsph(&["check-arrivals", thesis, "--json"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let entries = json["entries"].as_array().unwrap();
+    assert_eq!(entries.len(), 18);
+    for entry in entries {
+        assert_eq!(entry["possible"], false);
+        for field in [
+            "depth_m",
+            "charge_kg",
+            "arrival_s",
+            "implied_speed_m_s",
+            "min_possible_arrival_s",
+        ] {
+            assert!(entry[field].is_number(), "{field}");
+        }
+    }
+    let dir = scratch("arrivals");
+    std::fs::create_dir_all(&dir).unwrap();
+    let possible = dir.join("possible.csv");
+    // 10 m at 305 m/s (the relations' dry-sand speed): 32.8 ms
+    std::fs::write(
+        &possible,
+        "depth_m,charge_kg,gauge,arrival_ms\n10,500,crown,32.8\n",
+    )
+    .unwrap();
+    let out = blastsph(&["check-arrivals", possible.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = blastsph(&["check-arrivals", "/no/such/arrivals.csv"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("arrivals file"), "{}", stderr(&out));
+}

@@ -300,3 +300,17 @@ fn biaxial_passes_its_quick_checks() {
     let out = run("biaxial", &[]);
     assert_all_checks_pass(&out);
 }
+
+/// Every entry of the thesis' arrival table is flagged as faster than any wave the sand and
+/// the lining can carry (the slowest implied speed, 1.0e6 m/s at the 10 m invert, is over 200
+/// times c_max).
+#[test]
+fn thesis_arrivals_are_all_flagged() {
+    let output = run("thesis-arrivals", &[]);
+    assert_all_checks_pass(&output);
+    let record = &output.record;
+    assert_eq!(record.checks.len(), 18);
+    let metrics = &record.runs[0].metrics;
+    assert_eq!(metrics["entries_flagged"], 18.0);
+    assert!(metrics["slowest_implied_speed_m_s"] > 200.0 * metrics["c_max_m_s"]);
+}

@@ -11,6 +11,7 @@ mod kernel_interpolation;
 mod sedov_blast;
 mod shock_tube;
 mod taylor_bar;
+mod thesis_arrivals;
 mod tnt_slab;
 
 pub use biaxial::biaxial_run;
@@ -40,6 +41,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(capillary_pair::info());
     list.push(biaxial::info());
     list.extend(taylor_bar::infos());
+    list.push(thesis_arrivals::info());
     list
 }
 
@@ -85,6 +87,8 @@ pub fn run(
     let start = std::time::Instant::now();
     let mut output = if name == kernel_interpolation::NAME {
         kernel_interpolation::run(&params)?
+    } else if name == thesis_arrivals::NAME {
+        thesis_arrivals::run(&params)?
     } else if name == capillary_pair::NAME {
         capillary_pair::run(&params)?
     } else if name == biaxial::NAME {

@@ -15,6 +15,7 @@
 //! extrapolation.
 
 pub mod air_blast;
+pub mod arrivals;
 pub mod explosives;
 pub mod ground_shock;
 pub mod query;
