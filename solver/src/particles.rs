@@ -380,3 +380,89 @@ impl<const D: usize> Particles<D> {
             .sum()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four particles whose every field holds a value of its own particle.
+    fn labelled() -> Particles<2> {
+        let init: Vec<ParticleInit<2>> = (0..4)
+            .map(|k| ParticleInit {
+                position: Vector::<2>::new(k as f64, 0.0),
+                velocity: Vector::<2>::new(0.0, k as f64),
+                mass: 1.0 + k as f64,
+                smoothing_length: 2.0 + k as f64,
+                density: 3.0 + k as f64,
+                internal_energy: 4.0 + k as f64,
+                material: k as u16,
+            })
+            .collect();
+        let all = OptionalFields {
+            density_rate: true,
+            grad_h: true,
+            peak_density: true,
+            stress: true,
+        };
+        let mut p = Particles::new(&init, all);
+        for k in 0..4 {
+            p.deviatoric_stress[k] = Tensor::<2>::from_element(k as f64);
+            p.plastic_strain[k] = k as f64;
+        }
+        p
+    }
+
+    /// Reordering moves every field with its particle: afterwards each field of new index k
+    /// holds old particle `order[k]`'s value, and its id says so.
+    #[test]
+    fn permute_moves_every_field_with_its_particle() {
+        let mut p = labelled();
+        let order = [2, 0, 3, 1];
+        p.permute(&order);
+        for (k, &old) in order.iter().enumerate() {
+            let old_f = old as f64;
+            assert_eq!(p.id[k], old as u32);
+            assert_eq!(p.position[k][0], old_f);
+            assert_eq!(p.velocity[k][1], old_f);
+            assert_eq!(p.mass[k], 1.0 + old_f);
+            assert_eq!(p.smoothing_length[k], 2.0 + old_f);
+            assert_eq!(p.density[k], 3.0 + old_f);
+            assert_eq!(p.peak_density[k], 3.0 + old_f);
+            assert_eq!(p.internal_energy[k], 4.0 + old_f);
+            assert_eq!(p.material_of(k), old);
+            assert_eq!(p.deviatoric_stress[k][(0, 1)], old_f);
+            assert_eq!(p.plastic_strain[k], old_f);
+        }
+    }
+
+    /// An image across a wall normal to x carries its source's scalars, its velocity with the
+    /// normal component flipped and its stress with the shear component flipped; refreshing
+    /// copies the source's new state the same way; clearing removes every image's fields.
+    #[test]
+    fn images_see_their_source_through_the_mirror() {
+        let mut p = labelled();
+        p.velocity[1] = Vector::<2>::new(5.0, 7.0);
+        p.deviatoric_stress[1] = Tensor::<2>::new(1.0, 2.0, 2.0, -1.0);
+        let flip = Vector::<2>::new(-1.0, 1.0);
+        p.push_image(1, Vector::<2>::new(-1.0, 0.0), flip, true);
+        let image = p.n_real();
+        assert_eq!(p.len(), 5);
+        assert_eq!(p.velocity[image], Vector::<2>::new(-5.0, 7.0));
+        assert_eq!(
+            p.deviatoric_stress[image],
+            Tensor::<2>::new(1.0, -2.0, -2.0, -1.0)
+        );
+        assert_eq!((p.mass[image], p.density[image]), (2.0, 4.0));
+        assert_eq!(p.real_index(image), 1);
+        p.density[1] = 9.0;
+        p.deviatoric_stress[1] = Tensor::<2>::new(0.0, 3.0, 3.0, 0.0);
+        p.refresh_image_state();
+        assert_eq!(p.density[image], 9.0);
+        assert_eq!(p.deviatoric_stress[image][(0, 1)], -3.0);
+        p.clear_images();
+        assert_eq!(p.len(), 4);
+        assert_eq!(p.density.len(), 4);
+        assert_eq!(p.deviatoric_stress.len(), 4);
+        assert_eq!(p.omega.len(), 4);
+    }
+}
