@@ -1,7 +1,7 @@
 //! Stability stress tests. Random Riemann problems (states, resolution, Courant number across
 //! its allowed range, a jittered start) must all run to the end without a diagnosis, positive,
-//! and within the energy and momentum limits of the shock-tube problem; the lowest Courant
-//! number of the range is stable too. (That an unstable step stops with a diagnosis naming
+//! finite, with momentum balanced to round-off and energy bounded; the lowest Courant number of
+//! the range is stable too. The random cases come from the fixed seed in `.cargo/config.toml`. (That an unstable step stops with a diagnosis naming
 //! the particle is `courant_number_2_stops_with_a_diagnosis_naming_the_particle` in the
 //! solver's conservation tests.)
 
@@ -18,18 +18,26 @@ fn run(overrides: &[(&str, String)]) -> ProblemOutput {
     problems::run("toro-1", Level::Quick, &overrides, &|_| {}).unwrap()
 }
 
-/// Every run finished, and every conservation and positivity check passed.
+/// The bound on a stable run's relative energy change. A stable run's energy error is the
+/// integrator's truncation error: over the sampled space it stays at or below 1.5e-4 (cold
+/// Mach 5 collisions at 50 particles, the worst corner; Toro's tests at 100 particles and more
+/// stay below the shock-tube problem's own 5e-5). A growing instability, or a force without
+/// its matching heating, changes E by the order of the kinetic energy the shocks dissipate,
+/// 10 % of E and more in these collisions. 1e-3 lies between the two.
+const STABLE_ENERGY_CHANGE: f64 = 1e-3;
+
+/// Every run finished with its energy bounded, and every momentum and positivity check passed.
 fn assert_stable(out: &ProblemOutput) -> Result<(), TestCaseError> {
     for run in &out.record.runs {
         prop_assert!(run.failure.is_none(), "{}: {:?}", run.label, run.failure);
+        let energy = run.metrics["energy_relative_change"];
+        prop_assert!(
+            energy <= STABLE_ENERGY_CHANGE,
+            "{}: energy changed by {energy:e}",
+            run.label
+        );
     }
-    let guarded = [
-        "energy",
-        "momentum",
-        "min_density",
-        "min_pressure",
-        "runs_completed",
-    ];
+    let guarded = ["momentum", "min_density", "min_pressure", "runs_completed"];
     let mut seen = 0;
     for check in &out.record.checks {
         if guarded.iter().any(|g| check.name.starts_with(g)) {
@@ -44,7 +52,7 @@ fn assert_stable(out: &ProblemOutput) -> Result<(), TestCaseError> {
             );
         }
     }
-    prop_assert!(seen >= 5, "only {seen} guarded checks");
+    prop_assert!(seen >= 4, "only {seen} guarded checks");
     for column in ["rho", "u", "p", "e"] {
         let values = out.profile.column(column).unwrap();
         prop_assert!(!values.is_empty());
@@ -88,6 +96,20 @@ fn lowest_courant_number_is_stable() {
         ("n_left", "50".to_string()),
         ("jitter", "0.1".to_string()),
         ("cfl", CFL_RANGE.0.to_string()),
+    ]);
+    assert_stable(&out).unwrap();
+}
+
+/// The corner of the sampled space where the energy error is largest: cold gas (sound speed
+/// 0.37) colliding at ±1, Mach 5.4, at 50 particles and the top of the Courant range.
+#[test]
+fn cold_collision_at_the_largest_courant_number_is_stable() {
+    let out = run(&[
+        ("left", "1,1,0.1".to_string()),
+        ("right", "1,-1,0.1".to_string()),
+        ("t_end", "0.1".to_string()),
+        ("n_left", "50".to_string()),
+        ("cfl", CFL_RANGE.1.to_string()),
     ]);
     assert_stable(&out).unwrap();
 }

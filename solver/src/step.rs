@@ -33,8 +33,11 @@ use std::time::Instant;
 const GRAD_H_SKIN: f64 = 0.03;
 
 /// The allowed range of the Courant number C, the range the stability stress test covers
-/// (jittered Sod at random C up to 0.5, and at C = 0.01).
-pub const CFL_RANGE: (f64, f64) = (0.01, 0.5);
+/// (random Riemann problems at random C up to the top, and at C = 0.01). Above C ≈ 0.32 the
+/// explicit update of the viscous term overshoots at strong shocks: Toro's Test 5 at 100 left
+/// particles conserves energy to 9.5e-6 at C = 0.3 but to 3.3e-5, 3.1e-4 and 1.3e-3 at
+/// C = 0.32, 0.4 and 0.5 (about C⁶), while below 0.3 the error falls as the integrator's C².
+pub const CFL_RANGE: (f64, f64) = (0.01, 0.3);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimulationConfig {
