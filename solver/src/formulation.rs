@@ -1,7 +1,8 @@
 //! The formulation of a scene: its coordinates, how density and smoothing lengths are found,
 //! and how solids are discretised, as one type whose variants are exactly the combinations the
 //! solver implements (grad-h exists only with summation density, an axisymmetric scene only
-//! with continuity density, a radial one only with summation density and a plain h rule).
+//! with continuity density, a radial one with summation or continuity density and a plain h
+//! rule).
 //! What a type cannot say, the dimension a formulation needs, is checked when the simulation
 //! is built, naming the field.
 
@@ -136,6 +137,49 @@ impl Density {
     }
 }
 
+/// How a radial scene (rings or shells, see [`crate::radial`]) finds its density.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShellDensity {
+    /// ρ_i = m_i W̃(r_i, r_i; h_i) + Σ_j m_j W̃(r_i, r_j; h̄_ij), the ring- or shell-averaged
+    /// kernel's sum: the Lagrangian the radial equations come from.
+    Summation(SmoothingLength),
+    /// Dρ_i/Dt = ρ_i [Σ_j V_j (v_i ∂W̃_ij/∂r_i + v_j ∂W̃_ij/∂r_j) + V_i v_i dW̃_ii/dr] with the
+    /// volumes V = m/ρ: the rate of the summation with the masses replaced by ρ_i V_j, which
+    /// keeps a contact of very different densities (a charge in air) sharp, as
+    /// [`Density::Continuity`] does in Cartesian coordinates. The initial density is the
+    /// prescribed one.
+    Continuity(SmoothingLength),
+}
+
+impl ShellDensity {
+    pub fn rule(self) -> SmoothingLength {
+        match self {
+            ShellDensity::Summation(rule) | ShellDensity::Continuity(rule) => rule,
+        }
+    }
+
+    /// "summation", "continuity".
+    pub fn method_name(self) -> &'static str {
+        match self {
+            ShellDensity::Summation(_) => "summation",
+            ShellDensity::Continuity(_) => "continuity",
+        }
+    }
+
+    /// The radial counterpart of a Cartesian density method; grad-h has none.
+    pub fn from_density(density: Density) -> Result<Self, SolverError> {
+        match density {
+            Density::Summation(rule) => Ok(ShellDensity::Summation(rule)),
+            Density::Continuity(rule) => Ok(ShellDensity::Continuity(rule)),
+            Density::GradH { .. } => Err(SolverError::invalid(
+                "smoothing",
+                "grad-h",
+                "fixed or follow-density in a radial geometry",
+            )),
+        }
+    }
+}
+
 /// The formulation of a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Formulation {
@@ -146,11 +190,11 @@ pub enum Formulation {
     /// whose mass is the particle's (see [`crate::axisymmetric`]); continuity density (summed
     /// ring masses smear η near the axis). Needs a wall at r = 0 (the axis).
     Axisymmetric(SmoothingLength),
-    /// D = 1 in the distance from an axis, masses per unit length; summation density with the
-    /// ring-averaged kernel (see [`crate::radial`]); fluids only.
-    Cylindrical(SmoothingLength),
+    /// D = 1 in the distance from an axis, masses per unit length, the ring-averaged kernel
+    /// (see [`crate::radial`]); fluids only.
+    Cylindrical(ShellDensity),
     /// D = 1 in the distance from a point, masses of whole shells; as `Cylindrical`.
-    Spherical(SmoothingLength),
+    Spherical(ShellDensity),
     /// Solids only, the kernel in the reference configuration (see
     /// [`crate::total_lagrangian`]), with the hourglass control coefficient κ; density
     /// ρ0/det F and h from the deformation.
@@ -188,7 +232,10 @@ impl Formulation {
     pub fn integrates_density(self) -> bool {
         matches!(
             self,
-            Formulation::Cartesian(Density::Continuity(_)) | Formulation::Axisymmetric(_)
+            Formulation::Cartesian(Density::Continuity(_))
+                | Formulation::Axisymmetric(_)
+                | Formulation::Cylindrical(ShellDensity::Continuity(_))
+                | Formulation::Spherical(ShellDensity::Continuity(_))
         )
     }
 
@@ -197,8 +244,8 @@ impl Formulation {
         matches!(
             self,
             Formulation::Cartesian(Density::Summation(_))
-                | Formulation::Cylindrical(_)
-                | Formulation::Spherical(_)
+                | Formulation::Cylindrical(ShellDensity::Summation(_))
+                | Formulation::Spherical(ShellDensity::Summation(_))
         )
     }
 
@@ -214,9 +261,10 @@ impl Formulation {
     pub fn smoothing(self) -> Option<SmoothingLength> {
         match self {
             Formulation::Cartesian(Density::Summation(rule) | Density::Continuity(rule))
-            | Formulation::Axisymmetric(rule)
-            | Formulation::Cylindrical(rule)
-            | Formulation::Spherical(rule) => Some(rule),
+            | Formulation::Axisymmetric(rule) => Some(rule),
+            Formulation::Cylindrical(density) | Formulation::Spherical(density) => {
+                Some(density.rule())
+            }
             _ => None,
         }
     }
@@ -229,12 +277,14 @@ impl Formulation {
         }
     }
 
-    /// "summation", "continuity" (radial formulations sum; total-Lagrangian: "reference").
+    /// "summation", "continuity" (total-Lagrangian: "reference").
     pub fn density_name(self) -> &'static str {
         match self {
             Formulation::Cartesian(density) => density.method_name(),
             Formulation::Axisymmetric(_) => "continuity",
-            Formulation::Cylindrical(_) | Formulation::Spherical(_) => "summation",
+            Formulation::Cylindrical(density) | Formulation::Spherical(density) => {
+                density.method_name()
+            }
             Formulation::TotalLagrangian { .. } => "reference",
         }
     }
@@ -370,11 +420,18 @@ mod tests {
                 Some(1.2),
             ),
             (
-                Formulation::Spherical(SmoothingLength::Fixed),
+                Formulation::Spherical(ShellDensity::Summation(SmoothingLength::Fixed)),
                 "summation",
                 "fixed",
                 "updated",
                 None,
+            ),
+            (
+                Formulation::Cylindrical(ShellDensity::Continuity(FOLLOW)),
+                "continuity",
+                "follow-density",
+                "updated",
+                Some(1.2),
             ),
             (
                 Formulation::TotalLagrangian { hourglass: 0.1 },
@@ -461,7 +518,7 @@ mod tests {
         let fixed = SmoothingLength::Fixed;
         for summing in [
             Formulation::Cartesian(Density::Summation(fixed)),
-            Formulation::Spherical(fixed),
+            Formulation::Spherical(ShellDensity::Summation(fixed)),
         ] {
             let rho = interior_density(summing);
             // spherical shells far from the origin see a nearly planar lattice

@@ -31,7 +31,7 @@ pub use boundary::{Boundary, Domain};
 pub use burn::ProgrammedBurn;
 pub use eos::{Compaction, EquationOfState, IdealGas, Jwl, Material, MieGruneisen, StiffenedGas};
 pub use error::SolverError;
-pub use formulation::{Density, Formulation, SmoothingLength};
+pub use formulation::{Density, Formulation, ShellDensity, SmoothingLength};
 pub use kernel::{Kernel, KernelShape};
 pub use particles::Particles;
 pub use physics::{

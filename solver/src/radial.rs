@@ -255,7 +255,7 @@ pub(crate) struct ShellSource {
     mass: f64,
     density: f64,
     sound_speed: f64,
-    /// P = p/ρ².
+    /// P = p/ρ², or p/ρ in the volume form (which divides by the partner's ρ in the pair).
     pressure_term: f64,
 }
 
@@ -311,7 +311,13 @@ impl<const D: usize> PairEquation<D> for RadialDensity<'_> {
 /// De_i/Dt = P_i [Σ_j m_j (v_i d₁ + v_j d₂) + m_i v_i s_i] + ½ Σ_j m_j Π_ij (v_i − v_j) g
 /// (own-pressure form; the symmetric form shares (P_i + P_j)/2 instead of P_i). The viscous
 /// gradient g is antisymmetric, so viscosity moves energy between kinetic and thermal and
-/// creates none.
+/// creates none. Where the density is integrated (`volume_form`), P_i + P_j becomes
+/// (p_i + p_j)/(ρ_i ρ_j) and the own-pressure heating p_i/(ρ_i ρ_j) per pair, as in Cartesian
+/// coordinates (see [`crate::physics::compute_rates`]: across a density jump of 1000 the
+/// standard form multiplies the light side's pressure by its heavy neighbour's mass), and
+/// Dρ_i/Dt = ρ_i [Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i] with V = m/ρ, so that
+/// De_i/Dt = (p_i/ρ_i²) Dρ_i/Dt + viscous heating
+/// (see [`crate::formulation::ShellDensity::Continuity`]).
 pub fn radial_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
@@ -323,52 +329,82 @@ pub fn radial_rates<const D: usize>(
         kernel,
         viscosity,
         energy,
+        volume_form: !particles.density_rate.is_empty(),
     };
     let rates = pairs::gather(&equation, particles, neighbours);
     let p = particles;
-    for (i, (acceleration, heating, v_sig)) in rates.into_iter().enumerate() {
-        p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { acceleration } else { 0.0 });
-        p.energy_rate[i] = heating;
-        p.signal_speed[i] = v_sig;
+    for (i, rate) in rates.into_iter().enumerate() {
+        p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { rate.acceleration } else { 0.0 });
+        p.energy_rate[i] = rate.heating;
+        p.signal_speed[i] = rate.signal_speed;
+        if equation.volume_form {
+            p.density_rate[i] = p.density[i] * rate.divergence;
+        }
     }
 }
 
-/// The pass of [`radial_rates`]: per real particle Dv/Dt, De/Dt and the signal speed.
+/// What [`RadialRates`] sums for one shell.
+#[derive(Clone, Copy, Debug)]
+struct ShellRates {
+    acceleration: f64,
+    heating: f64,
+    signal_speed: f64,
+    /// Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i, the velocity divergence Dρ/Dt divides by ρ.
+    divergence: f64,
+}
+
+/// The pass of [`radial_rates`]: per real particle Dv/Dt, De/Dt, the signal speed and the
+/// velocity divergence.
 struct RadialRates<'a> {
     kernel: &'a RadialKernel,
     viscosity: &'a ArtificialViscosity,
     energy: EnergyEquation,
+    /// Continuity density: the volume form of the pressure terms.
+    volume_form: bool,
+}
+
+impl RadialRates<'_> {
+    /// What a shell's pressure term is multiplied by in the pair with `other`: 1/ρ_j in the
+    /// volume form.
+    #[inline]
+    fn partner_factor(&self, other: &ShellSource) -> f64 {
+        if self.volume_form {
+            1.0 / other.density
+        } else {
+            1.0
+        }
+    }
 }
 
 impl<const D: usize> PairEquation<D> for RadialRates<'_> {
     type Source = ShellSource;
-    type Sum = (f64, f64, f64);
-    type Output = (f64, f64, f64);
+    type Sum = ShellRates;
+    type Output = ShellRates;
 
     fn source(&self, p: &Particles<D>, k: usize) -> ShellSource {
-        shell_source(p, k)
+        let mut source = shell_source(p, k);
+        if self.volume_form {
+            source.pressure_term = p.pressure[k] / p.density[k];
+        }
+        source
     }
 
     /// The shell's force on itself: its self term m_i W̃(r_i, r_i; h_i) depends on r_i.
-    fn start(&self, me: &ShellSource) -> Self::Sum {
-        let (own, m_i) = (me.pressure_term, me.mass);
+    fn start(&self, me: &ShellSource) -> ShellRates {
+        let (own, m_i) = (me.pressure_term * self.partner_factor(me), me.mass);
         let self_slope = self.kernel.self_derivative(me.radius, me.smoothing_length);
-        (
-            -m_i * own * self_slope,
-            own * m_i * me.velocity * self_slope,
-            me.sound_speed,
-        )
+        ShellRates {
+            acceleration: -m_i * own * self_slope,
+            heating: own * m_i * me.velocity * self_slope,
+            signal_speed: me.sound_speed,
+            divergence: m_i / me.density * me.velocity * self_slope,
+        }
     }
 
     #[inline]
-    fn pair(
-        &self,
-        (acceleration, heating, v_sig): &mut Self::Sum,
-        me: &ShellSource,
-        other: &ShellSource,
-        _: &(),
-    ) {
-        let (r_i, v_i, own) = (me.radius, me.velocity, me.pressure_term);
+    fn pair(&self, sum: &mut ShellRates, me: &ShellSource, other: &ShellSource, _: &()) {
+        let (r_i, v_i) = (me.radius, me.velocity);
+        let own = me.pressure_term * self.partner_factor(other);
         let (r_j, v_j, m_j) = (other.radius, other.velocity, other.mass);
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
         let (_, d1, d2) = self.kernel.value_and_derivatives(r_i, r_j, h);
@@ -379,22 +415,26 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
         let pi_ij = self
             .viscosity
             .pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean);
-        let pressure_sum = own + other.pressure_term;
-        *acceleration -= m_j * (pressure_sum * d1 + pi_ij * g);
-        let compression = m_j * (v_i * d1 + v_j * d2);
-        *heating += match self.energy {
+        let pressure_sum = own + other.pressure_term * self.partner_factor(me);
+        sum.acceleration -= m_j * (pressure_sum * d1 + pi_ij * g);
+        let flux = v_i * d1 + v_j * d2;
+        let compression = m_j * flux;
+        sum.heating += match self.energy {
             EnergyEquation::OwnPressure => own * compression,
             EnergyEquation::Symmetric => 0.5 * pressure_sum * compression,
         } + 0.5 * m_j * pi_ij * v_ij * g;
+        sum.divergence += m_j / other.density * flux;
         let approach = if x_ij == 0.0 {
             0.0
         } else {
             v_ij * x_ij.signum()
         };
-        *v_sig = v_sig.max(signal_speed(me.sound_speed, other.sound_speed, approach));
+        sum.signal_speed =
+            sum.signal_speed
+                .max(signal_speed(me.sound_speed, other.sound_speed, approach));
     }
 
-    fn finish(&self, _: &ShellSource, sum: Self::Sum) -> Self::Sum {
+    fn finish(&self, _: &ShellSource, sum: ShellRates) -> ShellRates {
         sum
     }
 }

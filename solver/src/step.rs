@@ -618,21 +618,20 @@ impl<const D: usize> Simulation<D> {
     /// kicks, and grad-h found it with h. Then each particle's peak density.
     fn evaluate_density(&mut self) {
         let p = &mut self.particles;
-        let density = if let Some(kernel) = &self.radial_kernel {
-            Some(pairs::gather(
+        let density = match (&self.radial_kernel, self.config.formulation.sums_density()) {
+            (_, false) => None,
+            (Some(kernel), true) => Some(pairs::gather(
                 &radial::RadialDensity { kernel },
                 p,
                 &self.neighbours,
-            ))
-        } else if self.config.formulation.sums_density() {
-            let kernel = &self.kernel;
-            Some(pairs::gather(
-                &physics::SummationDensity { kernel },
+            )),
+            (None, true) => Some(pairs::gather(
+                &physics::SummationDensity {
+                    kernel: &self.kernel,
+                },
                 p,
                 &self.neighbours,
-            ))
-        } else {
-            None
+            )),
         };
         if let Some(density) = density {
             p.density[..density.len()].copy_from_slice(&density);

@@ -26,7 +26,7 @@ use blastsph_solver::formulation::ETA_RANGE;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, Density, Domain, EnergyEquation, EquationOfState, Formulation,
-    Geometry, IdealGas, Kernel, KernelShape, Material, Simulation, SimulationConfig, SolverError,
+    Geometry, IdealGas, Kernel, KernelShape, Material, ShellDensity, Simulation, SimulationConfig,
     Vector,
 };
 use std::collections::BTreeMap;
@@ -198,15 +198,7 @@ fn formulation(v: &Variant, smoothing: &str, eta: f64) -> Result<Formulation, Ve
     if v.name != "sedov-spherical-1d" {
         return Ok(Formulation::Cartesian(density));
     }
-    match density {
-        Density::Summation(rule) => Ok(Formulation::Spherical(rule)),
-        _ => Err(SolverError::invalid(
-            "smoothing",
-            smoothing,
-            "fixed or follow-density in a radial geometry",
-        )
-        .into()),
-    }
+    Ok(Formulation::Spherical(ShellDensity::from_density(density)?))
 }
 
 /// The particles of the final state that the measurements need.
