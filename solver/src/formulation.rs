@@ -20,6 +20,13 @@ pub enum SmoothingLength {
     /// h_i = η (m_i/ρ_i)^{1/D} from the latest density, before each neighbour search. Each
     /// pair uses W(r, h̄_ij); energy is conserved up to the change of h between steps.
     FollowDensity { eta: f64 },
+    /// h_i = max(η (m_i/ρ_i)^{1/D}, h_i⁰): as `FollowDensity`, but never below the particle's
+    /// initial h. Lagrangian shells that a blast sweeps up thin without bound (air next to a
+    /// charge ends as a sheet thinner by (r₀/r)² times its compression), and their h would set
+    /// a time step hundreds of times shorter than the flow needs; with the floor they keep the
+    /// kernel width they started with and gain neighbours instead. Meant with continuity
+    /// density, whose density does not depend on h.
+    FollowDensityFloored { eta: f64 },
 }
 
 impl SmoothingLength {
@@ -27,6 +34,7 @@ impl SmoothingLength {
         match self {
             SmoothingLength::Fixed => "fixed",
             SmoothingLength::FollowDensity { .. } => "follow-density",
+            SmoothingLength::FollowDensityFloored { .. } => "follow-density-floored",
         }
     }
 
@@ -34,6 +42,9 @@ impl SmoothingLength {
         match self {
             SmoothingLength::Fixed => SmoothingLength::Fixed,
             SmoothingLength::FollowDensity { .. } => SmoothingLength::FollowDensity { eta },
+            SmoothingLength::FollowDensityFloored { .. } => {
+                SmoothingLength::FollowDensityFloored { eta }
+            }
         }
     }
 }
@@ -70,7 +81,12 @@ impl Density {
     /// The names the command line and the reports use for the density method.
     pub const METHODS: [&'static str; 2] = ["summation", "continuity"];
     /// The names of the ways h is found.
-    pub const SMOOTHING: [&'static str; 3] = ["fixed", "follow-density", "grad-h"];
+    pub const SMOOTHING: [&'static str; 4] = [
+        "fixed",
+        "follow-density",
+        "follow-density-floored",
+        "grad-h",
+    ];
 
     /// The density method and h rule named by `method` (one of [`Density::METHODS`]) and
     /// `smoothing` (one of [`Density::SMOOTHING`]), with η where h follows the density and
@@ -79,6 +95,7 @@ impl Density {
         let rule = match smoothing {
             "fixed" => SmoothingLength::Fixed,
             "follow-density" => SmoothingLength::FollowDensity { eta },
+            "follow-density-floored" => SmoothingLength::FollowDensityFloored { eta },
             "grad-h" if method == "summation" => {
                 return Ok(Density::GradH {
                     eta,
@@ -272,7 +289,14 @@ impl Formulation {
     /// η, where h follows or is solved with the density.
     pub fn eta(self) -> Option<f64> {
         match (self.grad_h(), self.smoothing()) {
-            (Some((eta, _)), _) | (_, Some(SmoothingLength::FollowDensity { eta })) => Some(eta),
+            (Some((eta, _)), _)
+            | (
+                _,
+                Some(
+                    SmoothingLength::FollowDensity { eta }
+                    | SmoothingLength::FollowDensityFloored { eta },
+                ),
+            ) => Some(eta),
             _ => None,
         }
     }

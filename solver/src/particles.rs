@@ -84,6 +84,9 @@ particle_store! {
         /// Dh/Dt from the last force evaluation, which predicts the next step's h; empty unless
         /// grad-h.
         smoothing_rate: f64,
+        /// The smallest h each particle may take, its initial h; empty unless h is floored
+        /// ([`crate::formulation::SmoothingLength::FollowDensityFloored`]).
+        smoothing_floor: f64,
         /// The highest density each particle has reached; empty unless a material's pressure
         /// depends on it (compaction).
         peak_density: f64,
@@ -206,6 +209,8 @@ pub struct OptionalFields {
     pub peak_density: bool,
     /// Deviatoric stress and plastic state (solids).
     pub stress: bool,
+    /// Each particle's initial h, the floor of its h.
+    pub smoothing_floor: bool,
 }
 
 impl<const D: usize> Particles<D> {
@@ -250,6 +255,7 @@ impl<const D: usize> Particles<D> {
             density_rate: field(optional.density_rate, 0.0),
             omega: field(optional.grad_h, 1.0),
             smoothing_rate: field(optional.grad_h, 0.0),
+            smoothing_floor: of_each(optional.smoothing_floor, |p| p.smoothing_length),
             peak_density: of_each(optional.peak_density, |p| p.density),
             deviatoric_stress: tensors(optional.stress),
             stress_rate: tensors(optional.stress),
@@ -403,6 +409,7 @@ mod tests {
             grad_h: true,
             peak_density: true,
             stress: true,
+            smoothing_floor: true,
         };
         let mut p = Particles::new(&init, all);
         for k in 0..4 {

@@ -258,6 +258,10 @@ impl<const D: usize> Simulation<D> {
             grad_h: formulation.grad_h().is_some(),
             peak_density: materials.iter().any(|m| m.eos.remembers_peak_density()),
             stress: materials.iter().any(|m| m.strength.is_some()),
+            smoothing_floor: matches!(
+                formulation.smoothing(),
+                Some(SmoothingLength::FollowDensityFloored { .. })
+            ),
         };
         let mut particles = Particles::new(init, optional);
         if config.viscosity.switch.is_some() {
@@ -336,22 +340,28 @@ impl<const D: usize> Simulation<D> {
         mut progress: impl FnMut(f64),
     ) -> Result<(), SolverError> {
         while self.time < t_end {
-            let dt = self.stable_time_step()?;
-            let remaining = t_end - self.time;
-            // end exactly at t_end; where one stable step would leave a sliver behind, take two
-            // equal steps instead
-            let dt = if dt >= remaining * (1.0 - 1e-9) {
-                remaining
-            } else if dt > 0.5 * remaining {
-                0.5 * remaining
-            } else {
-                dt
-            };
-            self.step(dt)?;
-            if self.time >= t_end - 1e-12 * t_end {
-                self.time = t_end;
-            }
+            self.step_toward(t_end)?;
             progress(self.time);
+        }
+        Ok(())
+    }
+
+    /// One stable step toward `t_end`, shortened so that the run ends exactly there: where one
+    /// stable step would leave a sliver behind, it takes half the remainder (two equal steps).
+    /// For callers that look at the state after every step; `run_until` loops over it.
+    pub fn step_toward(&mut self, t_end: f64) -> Result<(), SolverError> {
+        let dt = self.stable_time_step()?;
+        let remaining = t_end - self.time;
+        let dt = if dt >= remaining * (1.0 - 1e-9) {
+            remaining
+        } else if dt > 0.5 * remaining {
+            0.5 * remaining
+        } else {
+            dt
+        };
+        self.step(dt)?;
+        if self.time >= t_end - 1e-12 * t_end {
+            self.time = t_end;
         }
         Ok(())
     }
@@ -590,7 +600,10 @@ impl<const D: usize> Simulation<D> {
             return self.solve_grad_h(eta, tolerance);
         }
         match formulation.smoothing() {
-            Some(SmoothingLength::FollowDensity { eta }) => {
+            Some(
+                SmoothingLength::FollowDensity { eta }
+                | SmoothingLength::FollowDensityFloored { eta },
+            ) => {
                 let p = &mut self.particles;
                 let geometry = formulation.geometry();
                 let axisymmetric = formulation.is_axisymmetric();
@@ -606,6 +619,9 @@ impl<const D: usize> Simulation<D> {
                         } else {
                             geometry.shell_width(r, volume)
                         };
+                }
+                for (h, floor) in p.smoothing_length.iter_mut().zip(&p.smoothing_floor) {
+                    *h = h.max(*floor);
                 }
             }
             Some(SmoothingLength::Fixed) | None => {}
