@@ -6,7 +6,7 @@ use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
 use blastsph_verification::sedov::{geometry_named, SedovBlast};
-use blastsph_verification::{problems, report, Level, VerifyError};
+use blastsph_verification::{index, problems, report, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -359,6 +359,7 @@ fn verify(
     );
     let mut all_pass = true;
     let mut records = Vec::new();
+    let mut figures = Vec::new();
     for name in &names {
         let bar = ProgressBar::new(1000).with_message(name.clone());
         bar.set_style(
@@ -414,11 +415,23 @@ fn verify(
             }
         }
         all_pass &= r.pass;
+        figures.push(output.figure.to_svg());
         records.push(output.record);
     }
-    report::write_work_precision(&out, &records)?;
+    let (_, work_precision) = report::write_work_precision(&out, &records)?;
+    let entries: Vec<index::Entry> = records
+        .iter()
+        .zip(&figures)
+        .map(|(record, figure_svg)| index::Entry { record, figure_svg })
+        .collect();
+    let heading = format!(
+        "{} level, {} worker threads",
+        level.name(),
+        rayon::current_num_threads()
+    );
+    report::write_index(&out, &heading, &entries, &work_precision)?;
     println!(
-        "outputs in {} (and work-precision.svg, .csv)",
+        "outputs in {} (index.html shows them all; work-precision.svg, .csv)",
         out.display()
     );
     Ok(all_pass)

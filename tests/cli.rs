@@ -105,6 +105,27 @@ fn verify_writes_the_work_precision_table() {
     assert!(dir.join("work-precision.svg").exists());
 }
 
+/// Every verify run writes `index.html`: one page with the summary table, the work–precision
+/// figure and each problem's checks and figure inline, and nothing fetched from a network.
+#[test]
+fn verify_writes_a_self_contained_index_page() {
+    let dir = scratch("verify-index");
+    verify_into(&dir, &["kernel-interpolation", "thesis-arrivals"]);
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
+    for name in ["kernel-interpolation", "thesis-arrivals"] {
+        assert!(html.contains(&format!("<h2 id=\"{name}\">")), "{name}");
+        assert!(html.contains(&format!("<a href=\"#{name}\">")), "{name}");
+    }
+    // two problem figures and the work–precision figure, inline
+    assert_eq!(html.matches("<svg").count(), 3);
+    // the only URLs are the SVG namespace declarations
+    assert_eq!(
+        html.matches("http").count(),
+        html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count()
+    );
+}
+
 #[test]
 fn set_overrides_are_recorded() {
     let dir = scratch("verify-set");

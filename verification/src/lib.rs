@@ -6,6 +6,7 @@
 //! both call [`problems::run`], so the tests exercise exactly what the CLI runs.
 
 pub mod impedance;
+pub mod index;
 pub mod laplace_young;
 pub mod materials;
 pub mod memory;

@@ -103,8 +103,12 @@ pub fn write_snapshot(dir: &Path, output: &ProblemOutput) -> Result<Option<PathB
 const WORK_PRECISION_ERRORS: [&str; 3] = ["l1_rho", "l1_u_over_v", "l1_p_over_p_cj"];
 
 /// Work against precision over several problems: the headline L1 error of every completed run
-/// against its wall time, one series per problem (log10 on both axes), as SVG and CSV.
-pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBuf>, VerifyError> {
+/// against its wall time, one series per problem (log10 on both axes), as SVG and CSV. Returns
+/// the paths and the SVG.
+pub fn write_work_precision(
+    dir: &Path,
+    records: &[Record],
+) -> Result<(Vec<PathBuf>, String), VerifyError> {
     let mut csv = csv::Writer::from_writer(Vec::new());
     csv.write_record([
         "problem",
@@ -177,12 +181,25 @@ pub fn write_work_precision(dir: &Path, records: &[Record]) -> Result<Vec<PathBu
         title: "work–precision".into(),
         panels: vec![panel],
     };
+    let svg = figure.to_svg();
     let files = [
         (
             "work-precision.csv",
             csv.into_inner().expect("writing to memory"),
         ),
-        ("work-precision.svg", figure.to_svg().into_bytes()),
+        ("work-precision.svg", svg.clone().into_bytes()),
     ];
-    write_files(dir, files)
+    Ok((write_files(dir, files)?, svg))
+}
+
+/// `index.html`: the whole suite on one page (see [`crate::index`]), written atomically.
+pub fn write_index(
+    dir: &Path,
+    heading: &str,
+    entries: &[crate::index::Entry],
+    work_precision_svg: &str,
+) -> Result<PathBuf, VerifyError> {
+    let html = crate::index::page(heading, entries, work_precision_svg);
+    let mut written = write_files(dir, [("index.html", html.into_bytes())])?;
+    Ok(written.pop().expect("one file"))
 }

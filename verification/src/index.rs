@@ -1,0 +1,218 @@
+//! `index.html`: the verification suite on one self-contained page (figures inline, no
+//! network): the summary table of every problem (particles, steps, wall time, headline errors,
+//! observed orders, pass/fail and each failed check with its value and limit), the
+//! work–precision figure, then each problem's checks and figure.
+
+use crate::record::{Check, Record};
+use std::fmt::Write;
+
+/// One problem as the page shows it: its record and its figure as SVG.
+pub struct Entry<'a> {
+    pub record: &'a Record,
+    pub figure_svg: &'a str,
+}
+
+/// Text for HTML: &, <, > and " escaped.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A number with four significant digits, plain where that reads well, else in e-notation.
+fn number(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs();
+    if magnitude == 0.0 {
+        "0".into()
+    } else if (1e-3..1e4).contains(&magnitude) {
+        let digits = (3 - magnitude.log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+fn check_row(check: &Check) -> String {
+    format!(
+        "<tr class=\"{}\"><td>{}</td><td>{}</td><td>{} {}</td><td>{}</td></tr>",
+        if check.pass { "pass" } else { "fail" },
+        escape(&check.name),
+        number(check.value),
+        escape(check.relation),
+        number(check.limit),
+        if check.pass { "pass" } else { "FAIL" }
+    )
+}
+
+/// The page for `entries` and the work–precision figure, with `heading` (level, threads).
+pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> String {
+    let mut html = String::new();
+    let _ = write!(
+        html,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <title>blastsph verification</title><style>\
+         body{{font-family:sans-serif;margin:1.5em;max-width:1100px}}\
+         table{{border-collapse:collapse;margin:0.5em 0 1em}}\
+         td,th{{border:1px solid #bbb;padding:2px 6px;text-align:left;font-size:13px}}\
+         tr.fail td{{background:#fde2e2}} td.fail{{color:#a00;font-weight:bold}}\
+         td.pass{{color:#060}} svg{{max-width:100%;height:auto}}\
+         </style></head><body>\n<h1>blastsph verification</h1>\n<p>{}</p>\n",
+        escape(heading)
+    );
+    let passed = entries.iter().filter(|e| e.record.pass).count();
+    let _ = writeln!(
+        html,
+        "<p>{passed} of {} problems pass every check.</p>",
+        entries.len()
+    );
+    html.push_str(
+        "<table><tr><th>problem</th><th>particles</th><th>steps</th><th>wall s</th>\
+         <th>headline errors</th><th>observed order</th><th>result</th></tr>\n",
+    );
+    for entry in entries {
+        let r = entry.record;
+        let run = r.headline();
+        let errors = run
+            .map(|run| {
+                run.errors
+                    .iter()
+                    .take(3)
+                    .map(|(k, v)| format!("{} = {}", escape(k), number(*v)))
+                    .collect::<Vec<_>>()
+                    .join("<br>")
+            })
+            .unwrap_or_default();
+        let orders = r
+            .order
+            .iter()
+            .map(|(k, v)| format!("{} = {}", escape(k), number(*v)))
+            .collect::<Vec<_>>()
+            .join("<br>");
+        let failed: Vec<String> = r
+            .checks
+            .iter()
+            .filter(|c| !c.pass)
+            .map(|c| {
+                format!(
+                    "{}: {} (must be {} {})",
+                    escape(&c.name),
+                    number(c.value),
+                    escape(c.relation),
+                    number(c.limit)
+                )
+            })
+            .chain(r.runs.iter().filter_map(|run| {
+                run.failure
+                    .as_ref()
+                    .map(|f| format!("{}: stopped: {}", escape(&run.label), escape(f)))
+            }))
+            .collect();
+        let _ = writeln!(
+            html,
+            "<tr><td><a href=\"#{name}\">{name}</a></td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{errors}</td><td>{orders}</td><td class=\"{}\">{}{}</td></tr>",
+            run.map_or(0, |run| run.n_particles),
+            run.map_or(0, |run| run.steps),
+            number(r.wall_s),
+            if r.pass { "pass" } else { "fail" },
+            if r.pass { "PASS" } else { "FAIL" },
+            if failed.is_empty() {
+                String::new()
+            } else {
+                format!("<br>{}", failed.join("<br>"))
+            },
+            name = escape(&r.problem),
+        );
+    }
+    html.push_str("</table>\n<h2>Work against precision</h2>\n");
+    html.push_str(inline(work_precision_svg));
+    for entry in entries {
+        let r = entry.record;
+        let _ = writeln!(
+            html,
+            "\n<h2 id=\"{name}\">{name}: {}</h2>\n<table><tr><th>check</th><th>value</th>\
+             <th>limit</th><th>result</th></tr>",
+            if r.pass { "PASS" } else { "FAIL" },
+            name = escape(&r.problem),
+        );
+        for check in &r.checks {
+            html.push_str(&check_row(check));
+            html.push('\n');
+        }
+        html.push_str("</table>\n");
+        html.push_str(inline(entry.figure_svg));
+    }
+    html.push_str("\n</body></html>\n");
+    html
+}
+
+/// An SVG document as an inline element (without an XML declaration).
+fn inline(svg: &str) -> &str {
+    match svg.find("<svg") {
+        Some(start) => &svg[start..],
+        None => svg,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::Run;
+    use crate::Level;
+
+    #[test]
+    fn numbers_read_at_four_significant_digits() {
+        assert_eq!(number(0.012345), "0.01235");
+        assert_eq!(number(12.3456), "12.35");
+        assert_eq!(number(7.119999999), "7.120");
+        assert_eq!(number(1.5e-7), "1.500e-7");
+        assert_eq!(number(0.0), "0");
+    }
+
+    #[test]
+    fn the_page_escapes_text_and_lists_failed_checks() {
+        let mut run = Run::new("n = 10", "", 10, 0.1);
+        run.failure = Some("blow-up at <x>".into());
+        let checks = vec![
+            Check::at_most("error & more", 0.5, 0.1),
+            Check::at_least("fine", 2.0, 1.0),
+        ];
+        let mut record = Record::new(
+            "demo",
+            Level::Quick,
+            vec![run],
+            Default::default(),
+            checks,
+            0,
+        );
+        record.settle();
+        let svg = "<?xml version=\"1.0\"?><svg xmlns=\"http://www.w3.org/2000/svg\"></svg>";
+        let html = page(
+            "quick level",
+            &[Entry {
+                record: &record,
+                figure_svg: svg,
+            }],
+            svg,
+        );
+        assert!(
+            html.contains("error &amp; more: 0.5000 (must be &lt;= 0.1000)"),
+            "{html}"
+        );
+        assert!(html.contains("blow-up at &lt;x&gt;"));
+        assert!(html.contains("0 of 1 problems pass"));
+        assert!(!html.contains("<?xml"));
+        assert_eq!(html.matches("<svg").count(), 2);
+    }
+}
