@@ -102,9 +102,23 @@ pub fn write_snapshot(dir: &Path, output: &ProblemOutput) -> Result<Option<PathB
 /// problems), the L1 pressure error over p_CJ (detonation).
 const WORK_PRECISION_ERRORS: [&str; 3] = ["l1_rho", "l1_u_over_v", "l1_p_over_p_cj"];
 
+/// A series' label and its (log10 wall time, log10 error) points.
+type LabelledPoints = (String, Vec<(f64, f64)>);
+
+/// The panel of the work–precision figure a problem's runs go to.
+fn problem_family(problem: &str) -> &'static str {
+    if problem == "sod" || problem.starts_with("toro") {
+        "shock tubes"
+    } else if problem.starts_with("sedov") {
+        "Sedov blasts"
+    } else {
+        "interfaces and detonation"
+    }
+}
+
 /// Work against precision over several problems: the headline L1 error of every completed run
-/// against its wall time, one series per problem (log10 on both axes), as SVG and CSV. Returns
-/// the paths and the SVG.
+/// against its wall time (log10 on both axes), one panel per problem family and one series per
+/// problem and formulation, as SVG and CSV. Returns the paths and the SVG.
 pub fn write_work_precision(
     dir: &Path,
     records: &[Record],
@@ -121,17 +135,8 @@ pub fn write_work_precision(
         "error",
     ])
     .expect("writing to memory");
-    let mut panel = Panel {
-        title: format!(
-            "L1 error against wall time ({} cores)",
-            rayon::current_num_threads()
-        ),
-        x_label: "log10 wall time (s)".into(),
-        y_label: "log10 L1 error (named in the legend)".into(),
-        series: Vec::new(),
-    };
-    // one series per problem and formulation, in order of first appearance
-    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    // per family, one series per problem and formulation, in order of first appearance
+    let mut families: Vec<(&str, Vec<LabelledPoints>)> = Vec::new();
     for record in records {
         for run in record
             .runs
@@ -162,6 +167,14 @@ pub fn write_work_precision(
                     format!("{} ({}): {name}", record.problem, run.formulation)
                 };
                 let point = (run.wall_s.log10(), error.log10());
+                let family = problem_family(&record.problem);
+                let series = match families.iter().position(|(f, _)| *f == family) {
+                    Some(k) => &mut families[k].1,
+                    None => {
+                        families.push((family, Vec::new()));
+                        &mut families.last_mut().expect("just pushed").1
+                    }
+                };
                 match series.iter_mut().find(|(l, _)| *l == label) {
                     Some((_, points)) => points.push(point),
                     None => series.push((label, vec![point])),
@@ -169,17 +182,31 @@ pub fn write_work_precision(
             }
         }
     }
-    for (label, mut points) in series {
-        points.sort_by(|a, b| a.0.total_cmp(&b.0));
-        panel.series.push(Series {
-            label,
-            points,
-            style: Style::LineMarkers,
-        });
-    }
+    let panels = families
+        .into_iter()
+        .map(|(family, series)| Panel {
+            title: family.to_string(),
+            x_label: "log10 wall time (s)".into(),
+            y_label: "log10 L1 error (named in the legend)".into(),
+            series: series
+                .into_iter()
+                .map(|(label, mut points)| {
+                    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    Series {
+                        label,
+                        points,
+                        style: Style::LineMarkers,
+                    }
+                })
+                .collect(),
+        })
+        .collect();
     let figure = Figure {
-        title: "work–precision".into(),
-        panels: vec![panel],
+        title: format!(
+            "work–precision: L1 error against wall time ({} cores)",
+            rayon::current_num_threads()
+        ),
+        panels,
     };
     let svg = figure.to_svg();
     let files = [

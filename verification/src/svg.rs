@@ -1,4 +1,5 @@
-//! A small SVG line-plot writer: panels of series on linear axes, with ticks and a legend.
+//! A small SVG line-plot writer: panels of series on linear axes, with ticks and a legend
+//! below each plot area (outside the data), drawn with each series' own line and marker.
 
 use std::fmt::Write;
 
@@ -34,9 +35,16 @@ pub struct Figure {
 const PANEL_W: f64 = 480.0;
 const PANEL_H: f64 = 330.0;
 const MARGIN: (f64, f64, f64, f64) = (62.0, 20.0, 34.0, 46.0); // left, right, top, bottom
-const COLOURS: [&str; 6] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
+/// Ten colours (matplotlib's tab10); past ten series the marker shape changes too, so that no
+/// two series of a panel look alike.
+const COLOURS: [&str; 10] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+    "#bcbd22", "#17becf",
 ];
+/// Height of one legend row.
+const LEGEND_ROW: f64 = 16.0;
+/// About how wide a character of the 12 px font is.
+const CHARACTER_W: f64 = 6.5;
 
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
@@ -79,7 +87,27 @@ impl Figure {
     pub fn to_svg(&self) -> String {
         let columns = self.panels.len().clamp(1, 2);
         let rows = self.panels.len().div_ceil(columns).max(1);
-        let (width, height) = (columns as f64 * PANEL_W, rows as f64 * PANEL_H + 30.0);
+        // each row as tall as its tallest panel (plot area plus legend)
+        let row_heights: Vec<f64> = (0..rows)
+            .map(|row| {
+                self.panels
+                    .iter()
+                    .skip(row * columns)
+                    .take(columns)
+                    .map(Panel::height)
+                    .fold(PANEL_H, f64::max)
+            })
+            .collect();
+        let row_tops: Vec<f64> = row_heights
+            .iter()
+            .scan(30.0, |top, h| {
+                let this = *top;
+                *top += h;
+                Some(this)
+            })
+            .collect();
+        let width = columns as f64 * PANEL_W;
+        let height = 30.0 + row_heights.iter().sum::<f64>();
         let mut s = String::new();
         let _ = writeln!(
             s,
@@ -93,10 +121,7 @@ impl Figure {
             escape(&self.title)
         );
         for (k, panel) in self.panels.iter().enumerate() {
-            let (ox, oy) = (
-                (k % columns) as f64 * PANEL_W,
-                30.0 + (k / columns) as f64 * PANEL_H,
-            );
+            let (ox, oy) = ((k % columns) as f64 * PANEL_W, row_tops[k / columns]);
             panel.draw(&mut s, ox, oy);
         }
         s.push_str("</svg>\n");
@@ -104,7 +129,63 @@ impl Figure {
     }
 }
 
+/// How series `k` of a panel is drawn: its colour and marker shape.
+fn look(k: usize) -> (&'static str, usize) {
+    (COLOURS[k % COLOURS.len()], k / COLOURS.len() % 3)
+}
+
+/// A marker of `shape` (0 circle, 1 square, 2 diamond) at (x, y).
+fn marker(s: &mut String, shape: usize, x: f64, y: f64, colour: &str) {
+    let _ = match shape {
+        0 => writeln!(
+            s,
+            r#"<circle cx="{x:.2}" cy="{y:.2}" r="2.5" fill="none" stroke="{colour}"/>"#
+        ),
+        1 => writeln!(
+            s,
+            r#"<rect x="{:.2}" y="{:.2}" width="5" height="5" fill="none" stroke="{colour}"/>"#,
+            x - 2.5,
+            y - 2.5
+        ),
+        _ => writeln!(
+            s,
+            r#"<polygon points="{:.2},{y:.2} {x:.2},{:.2} {:.2},{y:.2} {x:.2},{:.2}" fill="none" stroke="{colour}"/>"#,
+            x - 3.0,
+            y - 3.0,
+            x + 3.0,
+            y + 3.0
+        ),
+    };
+}
+
 impl Panel {
+    /// The panel's height: the plot area and its axes, then the legend's rows.
+    fn height(&self) -> f64 {
+        let rows = self.series.len().div_ceil(self.legend_columns()) as f64;
+        PANEL_H
+            + if rows > 0.0 {
+                8.0 + LEGEND_ROW * rows
+            } else {
+                0.0
+            }
+    }
+
+    /// Two legend columns where every label fits in half the width, else one.
+    fn legend_columns(&self) -> usize {
+        let half = (PANEL_W - MARGIN.0 - MARGIN.1) / 2.0 - 30.0;
+        let longest = self
+            .series
+            .iter()
+            .map(|s| s.label.chars().count())
+            .max()
+            .unwrap_or(0);
+        if longest as f64 * CHARACTER_W <= half {
+            2
+        } else {
+            1
+        }
+    }
+
     fn draw(&self, s: &mut String, ox: f64, oy: f64) {
         let (ml, mr, mt, mb) = MARGIN;
         let (x0, y0, w, h) = (ox + ml, oy + mt, PANEL_W - ml - mr, PANEL_H - mt - mb);
@@ -168,9 +249,8 @@ impl Panel {
             y0 + h / 2.0,
             escape(&self.y_label)
         );
-        let mut legend = Vec::new();
         for (k, series) in self.series.iter().enumerate() {
-            let colour = COLOURS[k % COLOURS.len()];
+            let (colour, shape) = look(k);
             let finite = series
                 .points
                 .iter()
@@ -188,36 +268,41 @@ impl Panel {
             }
             if matches!(series.style, Style::Markers | Style::LineMarkers) {
                 for &(x, y) in finite {
-                    let _ = writeln!(
-                        s,
-                        r#"<circle cx="{:.2}" cy="{:.2}" r="2.5" fill="none" stroke="{colour}"/>"#,
-                        px(x),
-                        py(y)
-                    );
+                    marker(s, shape, px(x), py(y), colour);
                 }
             }
-            legend.push((colour, series.label.as_str()));
         }
-        // the legend last, on a white box, so that it stays readable over the data
-        if !legend.is_empty() {
+        // the legend below the axis label, outside the data: each entry drawn as its series is
+        let columns = self.legend_columns();
+        let column_width = (PANEL_W - ml - mr) / columns as f64;
+        for (k, series) in self.series.iter().enumerate() {
+            let (colour, shape) = look(k);
+            let lx = x0 + (k % columns) as f64 * column_width;
+            let ly = oy + PANEL_H + 6.0 + LEGEND_ROW * (k / columns) as f64;
+            if matches!(series.style, Style::Line | Style::LineMarkers) {
+                let _ = writeln!(
+                    s,
+                    r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"/>"#,
+                    lx + 20.0
+                );
+            }
+            if matches!(series.style, Style::Markers | Style::LineMarkers) {
+                marker(s, shape, lx + 10.0, ly, colour);
+            }
+            // cut labels that would leave the column
+            let room = ((column_width - 30.0) / CHARACTER_W) as usize;
+            let label: String = if series.label.chars().count() > room {
+                let kept: String = series.label.chars().take(room.saturating_sub(1)).collect();
+                format!("{kept}…")
+            } else {
+                series.label.clone()
+            };
             let _ = writeln!(
                 s,
-                r##"<rect x="{}" y="{}" width="190" height="{}" fill="white" fill-opacity="0.85" stroke="#bbb"/>"##,
-                x0 + w - 194.0,
-                y0 + 4.0,
-                16.0 * legend.len() as f64 + 6.0
-            );
-        }
-        for (k, (colour, label)) in legend.into_iter().enumerate() {
-            let ly = y0 + 14.0 + 16.0 * k as f64;
-            let _ = writeln!(
-                s,
-                r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#,
-                x0 + w - 188.0,
-                x0 + w - 168.0,
-                x0 + w - 162.0,
+                r#"<text x="{}" y="{}">{}</text>"#,
+                lx + 26.0,
                 ly + 4.0,
-                escape(label)
+                escape(&label)
             );
         }
     }
@@ -244,6 +329,49 @@ mod tests {
         let expected = [0.2, 0.4, 0.6, 0.8];
         assert_eq!(t.len(), expected.len());
         assert!(t.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12));
+    }
+
+    /// Twelve series in two panels: every series looks different from the others of its
+    /// panel, and every text element (the legend included) lies inside the canvas.
+    #[test]
+    fn series_never_look_alike_and_text_stays_on_the_canvas() {
+        let looks: Vec<_> = (0..30).map(look).collect();
+        for (k, a) in looks.iter().enumerate() {
+            assert!(looks[..k].iter().all(|b| b != a), "series {k} repeats");
+        }
+        let panel = |n: usize| Panel {
+            title: "p".into(),
+            series: (0..n)
+                .map(|k| Series {
+                    label: format!("a series with a rather long label number {k}"),
+                    points: vec![(0.0, k as f64), (1.0, 2.0 * k as f64)],
+                    style: Style::LineMarkers,
+                })
+                .collect(),
+            ..Panel::default()
+        };
+        let svg = Figure {
+            title: "t".into(),
+            panels: vec![panel(12), panel(3), panel(1)],
+        }
+        .to_svg();
+        let attribute = |tag: &str, name: &str| -> f64 {
+            let start = tag.find(&format!(" {name}=\"")).expect("attribute") + name.len() + 3;
+            let end = start + tag[start..].find('"').unwrap();
+            tag[start..end].parse().unwrap()
+        };
+        let root = &svg[..svg.find('>').unwrap()];
+        let (width, height) = (attribute(root, "width"), attribute(root, "height"));
+        for tag in svg.split("<text").skip(1) {
+            let tag = &tag[..tag.find('>').unwrap()];
+            if tag.contains(" y=\"") {
+                let (x, y) = (attribute(tag, "x"), attribute(tag, "y"));
+                assert!(
+                    (0.0..=width).contains(&x) && (0.0..=height).contains(&y),
+                    "{tag}"
+                );
+            }
+        }
     }
 
     #[test]
