@@ -116,8 +116,9 @@ impl Figure {
         let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
         let _ = writeln!(
             s,
-            r#"<text x="{}" y="20" text-anchor="middle" font-size="15">{}</text>"#,
+            r#"<text x="{}" y="20" text-anchor="middle" font-size="{:.1}">{}</text>"#,
             width / 2.0,
+            fitting_font_size(&self.title, 15.0, width - 10.0),
             escape(&self.title)
         );
         for (k, panel) in self.panels.iter().enumerate() {
@@ -127,6 +128,13 @@ impl Figure {
         s.push_str("</svg>\n");
         s
     }
+}
+
+/// The font size, at most `size`, at which `text` fits in `width` (a character is about 0.55
+/// of the font size wide).
+fn fitting_font_size(text: &str, size: f64, width: f64) -> f64 {
+    let characters = text.chars().count().max(1) as f64;
+    size.min(width / (0.55 * characters))
 }
 
 /// How series `k` of a panel is drawn: its colour and marker shape.
@@ -207,9 +215,10 @@ impl Panel {
         );
         let _ = writeln!(
             s,
-            r#"<text x="{}" y="{}" text-anchor="middle" font-size="13">{}</text>"#,
+            r#"<text x="{}" y="{}" text-anchor="middle" font-size="{:.1}">{}</text>"#,
             x0 + w / 2.0,
             oy + 20.0,
+            fitting_font_size(&self.title, 13.0, PANEL_W - 10.0),
             escape(&self.title)
         );
         for t in ticks(xlo, xhi) {

@@ -626,22 +626,35 @@ pub fn run(
     };
     let figure = Figure {
         title: format!(
-            "{}: final shape at {:.0} µs ({slice}); reference length {} mm, footprint {} mm; Taylor (1948) length {:.2} mm",
+            "{}: final shape at {:.0} µs ({slice})",
             model.name(),
-            t_end * 1e6,
-            FINAL_LENGTH * 1e3,
-            FOOTPRINT_RADIUS * 1e3,
-            taylor_length * 1e3,
+            t_end * 1e6
         ),
         panels: vec![Panel {
             title: "particles, r–z".into(),
             x_label: "r (mm)".into(),
             y_label: "z (mm)".into(),
-            series: vec![Series {
-                label: "SPH".into(),
-                points: side,
-                style: Style::Markers,
-            }],
+            series: vec![
+                Series {
+                    label: "SPH".into(),
+                    points: side,
+                    style: Style::Markers,
+                },
+                Series {
+                    label: format!(
+                        "reference: L = {:.2} mm, footprint {:.2} mm",
+                        FINAL_LENGTH * 1e3,
+                        FOOTPRINT_RADIUS * 1e3
+                    ),
+                    points: vec![(0.0, FINAL_LENGTH * 1e3), (FOOTPRINT_RADIUS * 1e3, 0.0)],
+                    style: Style::Markers,
+                },
+                Series {
+                    label: format!("Taylor (1948): L = {:.2} mm", taylor_length * 1e3),
+                    points: vec![(0.0, taylor_length * 1e3)],
+                    style: Style::Markers,
+                },
+            ],
         }],
     };
     Ok(ProblemOutput {
