@@ -21,7 +21,7 @@ fn radial_with(geometry: Geometry, density: ShellDensity) -> Formulation {
 }
 
 /// `n` rings or shells of width `dr` from the origin, ρ = 1 and the given pressure profile,
-/// h following the density with η = 1.2 unless `rule` says otherwise.
+/// summation density with h following the density with η = 1.2 unless `rule` says otherwise.
 fn ball(
     geometry: Geometry,
     n: usize,
@@ -29,34 +29,15 @@ fn ball(
     pressure: impl Fn(f64) -> f64,
     rule: Option<SmoothingLength>,
 ) -> Simulation<1> {
-    let gas = IdealGas::new(1.4).unwrap();
-    let init: Vec<ParticleInit<1>> = (0..n)
-        .map(|k| {
-            let (r0, r1) = (k as f64 * dr, (k + 1) as f64 * dr);
-            let r = 0.5 * (r0 + r1);
-            ParticleInit {
-                position: Vector::<1>::new(r),
-                velocity: Vector::<1>::zeros(),
-                mass: geometry.volume_between(r0, r1),
-                smoothing_length: 2.0 * dr,
-                density: 1.0,
-                internal_energy: gas.internal_energy(1.0, pressure(r)),
-                material: 0,
-            }
-        })
-        .collect();
     let rule = rule.unwrap_or(SmoothingLength::FollowDensity { eta: 1.2 });
-    let config = SimulationConfig {
-        formulation: radial(geometry, rule),
-        ..Default::default()
-    };
-    Simulation::new(
-        &init,
-        vec![Material::new("air", gas)],
-        Domain::open(),
-        config,
+    shells(
+        geometry,
+        n,
+        dr,
+        ShellDensity::Summation(rule),
+        |_| 1.0,
+        pressure,
     )
-    .unwrap()
 }
 
 /// What a flat lattice of spacing `dr` sums to, minus one, with the 2D or 3D cubic spline
@@ -144,7 +125,7 @@ fn radial_blast_conserves_energy_to_second_order_in_dt() {
         for integrated in [false, true] {
             let scene = || match integrated {
                 false => ball(geometry, 100, 0.01, hot_core, None),
-                true => shells(geometry, 0.01, continuity, |_| 1.0, hot_core),
+                true => shells(geometry, 100, 0.01, continuity, |_| 1.0, hot_core),
             };
             let drift = |steps: usize| {
                 let mut sim = scene();
@@ -200,17 +181,17 @@ fn radial_scenes_reject_what_they_cannot_represent() {
     assert!(err.to_string().contains("boundary"), "{err}");
 }
 
-/// Rings or shells of width `dr` out to r = 1 with density `rho(r)`, pressure `pressure(r)`,
-/// h following the density with η = 2 (`ball`'s lattice with a density profile).
+/// `n` rings or shells of width `dr` from the origin with density `rho(r)` and pressure
+/// `pressure(r)`, initial h = 2 dr, density found as `density` says.
 fn shells(
     geometry: Geometry,
+    n: usize,
     dr: f64,
     density: ShellDensity,
     rho: impl Fn(f64) -> f64,
     pressure: impl Fn(f64) -> f64,
 ) -> Simulation<1> {
     let gas = IdealGas::new(1.4).unwrap();
-    let n = (1.0 / dr).round() as usize;
     let init: Vec<ParticleInit<1>> = (0..n)
         .map(|k| {
             let (r0, r1) = (k as f64 * dr, (k + 1) as f64 * dr);
@@ -250,7 +231,7 @@ fn continuity_density_follows_the_summation_density_in_a_smooth_flow() {
     let bump = |r: f64| 1.0 + 0.2 * (-r * r / 0.05).exp();
     for geometry in [Geometry::Cylindrical, Geometry::Spherical] {
         let relative_density = |density| {
-            let mut sim = shells(geometry, 0.01, density, |_| 1.0, bump);
+            let mut sim = shells(geometry, 100, 0.01, density, |_| 1.0, bump);
             let rho0 = sim.particles().density.clone();
             sim.run_until(0.1, |_| {}).unwrap();
             let p = sim.particles();
@@ -291,6 +272,7 @@ fn a_contact_of_densities_1000_to_1_stays_at_rest_with_continuity_density() {
         let heavy_core = |r: f64| if r < 0.3 { 1000.0 } else { 1.0 };
         let mut sim = shells(
             geometry,
+            100,
             0.01,
             ShellDensity::Continuity(rule),
             heavy_core,
