@@ -376,16 +376,11 @@ fn verify(
         }
         let r = &output.record;
         let finest = r.headline();
-        let errors = finest
-            .map(|run| {
-                run.errors
-                    .iter()
-                    .take(3)
-                    .map(|(k, v)| format!("{k}={v:.2e}"))
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            })
-            .unwrap_or_default();
+        let errors = r
+            .headline_errors()
+            .map(|(k, v)| format!("{k}={v:.2e}"))
+            .collect::<Vec<_>>()
+            .join(" ");
         let orders = r
             .order
             .iter()

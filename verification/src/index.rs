@@ -83,16 +83,11 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
     for entry in entries {
         let r = entry.record;
         let run = r.headline();
-        let errors = run
-            .map(|run| {
-                run.errors
-                    .iter()
-                    .take(3)
-                    .map(|(k, v)| format!("{} = {}", escape(k), number(*v)))
-                    .collect::<Vec<_>>()
-                    .join("<br>")
-            })
-            .unwrap_or_default();
+        let errors = r
+            .headline_errors()
+            .map(|(k, v)| format!("{} = {}", escape(k), number(*v)))
+            .collect::<Vec<_>>()
+            .join("<br>");
         let orders = r
             .order
             .iter()

@@ -290,6 +290,13 @@ impl Record {
         self.runs.get(self.headline_run)
     }
 
+    /// The errors a one-line summary shows: the headline run's first three, by name.
+    pub fn headline_errors(&self) -> impl Iterator<Item = (&String, &f64)> {
+        self.headline()
+            .into_iter()
+            .flat_map(|run| run.errors.iter().take(3))
+    }
+
     pub fn check(&self, name: &str) -> Option<&Check> {
         self.checks.iter().find(|c| c.name == name)
     }
