@@ -400,9 +400,20 @@ fn verify(
         );
         for check in r.checks.iter().filter(|c| !c.pass) {
             println!(
-                "    FAIL {}: {:.4e} (must be {} {:.4e})",
-                check.name, check.value, check.relation, check.limit
+                "    {} {}: {:.4e} (must be {} {:.4e})",
+                if check.known_limit.is_some() {
+                    "FAIL at a known limit:"
+                } else {
+                    "FAIL"
+                },
+                check.name,
+                check.value,
+                check.relation,
+                check.limit
             );
+            if let Some(evidence) = &check.known_limit {
+                println!("        {evidence}");
+            }
         }
         for run in &r.runs {
             if let Some(failure) = &run.failure {

@@ -16,11 +16,32 @@ fn run(name: &str, overrides: &[(&str, &str)]) -> blastsph_verification::record:
 /// times, matches the reviewed snapshot in `tests/snapshots/` (a changed number shows as a
 /// diff to review; the snapshot verifies nothing, the checks do).
 fn assert_all_checks_pass(output: &blastsph_verification::record::ProblemOutput) {
+    assert_checks(output, false);
+}
+
+/// As [`assert_all_checks_pass`], except that a check marked as a known limit of the modelled
+/// physics may fail: it must then carry its evidence, and the record still passes.
+fn assert_all_checks_pass_or_meet_known_limits(
+    output: &blastsph_verification::record::ProblemOutput,
+) {
+    assert_checks(output, true);
+}
+
+fn assert_checks(
+    output: &blastsph_verification::record::ProblemOutput,
+    known_limits_allowed: bool,
+) {
     for check in &output.record.checks {
+        let at_known_limit =
+            known_limits_allowed && check.known_limit.as_ref().is_some_and(|e| !e.is_empty());
         assert!(
-            check.pass,
+            check.pass || at_known_limit,
             "{}: {} = {:e}, must be {} {:e}",
-            output.record.problem, check.name, check.value, check.relation, check.limit
+            output.record.problem,
+            check.name,
+            check.value,
+            check.relation,
+            check.limit
         );
     }
     assert!(output.record.pass);
@@ -313,4 +334,52 @@ fn thesis_arrivals_are_all_flagged() {
     let metrics = &record.runs[0].metrics;
     assert_eq!(metrics["entries_flagged"], 18.0);
     assert!(metrics["slowest_implied_speed_m_s"] > 200.0 * metrics["c_max_m_s"]);
+}
+
+/// A 1 kg TNT sphere in free air at n = 40 and 80 shells across the charge: at n = 80 the
+/// peak overpressure, arrival and positive impulse at Z = 1, 2, 4, 8 against Kingery–Bulmash's
+/// bands (limits justified in the problem file; the impulse from Z = 4 out is a known limit of
+/// the model, shown with its evidence), the peaks closer at 80 than at 40, the energy kept
+/// through every rezone, and each gauge in the record.
+#[test]
+fn airblast_free_air_passes_its_quick_checks() {
+    let output = run("airblast-free-air", &[]);
+    assert_all_checks_pass_or_meet_known_limits(&output);
+    for run in &output.record.runs {
+        assert_eq!(run.gauges.len(), 5, "{}", run.label);
+        assert!(run.metrics["rezones"] >= 5.0, "{}", run.label);
+    }
+}
+
+/// A 1 kg TNT hemisphere on rigid ground (its mirror image: a 2 kg sphere) against
+/// Kingery–Bulmash hemispherical, from Z = 2 out (Z = 1 lies within Z = 1 of the 2 kg sphere);
+/// the relations' own free-air 2W over hemispherical ratio is in the record beside each gauge.
+#[test]
+fn airblast_surface_passes_its_quick_checks() {
+    let output = run("airblast-surface", &[]);
+    assert_all_checks_pass_or_meet_known_limits(&output);
+    let headline = output.record.headline().expect("a headline run");
+    for z in [1, 2, 4, 8] {
+        let mirror =
+            headline.metrics[&format!("kingery_bulmash_free_air_2w_over_hemispherical_peak_z{z}")];
+        assert!(mirror > 1.0, "Z = {z}: {mirror}");
+    }
+}
+
+/// The free-air scene at 1 kg and 8 kg: each gauge's overpressure against t/W^(1/3) agrees at
+/// matched Z (limit 1 % of the peak; measured at round-off, the scenes being the same in units
+/// of the charge radius).
+#[test]
+fn hopkinson_cranz_scaling_holds() {
+    let output = run("hopkinson-cranz", &[]);
+    assert_all_checks_pass(&output);
+    let mismatches: Vec<f64> = output
+        .record
+        .checks
+        .iter()
+        .filter(|c| c.name.starts_with("scaled_overpressure_mismatch"))
+        .map(|c| c.value)
+        .collect();
+    assert_eq!(mismatches.len(), 5);
+    assert!(mismatches.iter().all(|&m| m < 1e-9), "{mismatches:?}");
 }

@@ -353,6 +353,8 @@ pub(crate) struct ShellSource {
     sound_speed: f64,
     /// P = p/ρ², or p/ρ in the volume form (which divides by the partner's ρ in the pair).
     pressure_term: f64,
+    /// α_i/α_max of the viscosity switch (1 without it).
+    alpha_factor: f64,
 }
 
 fn shell_source<const D: usize>(p: &Particles<D>, k: usize) -> ShellSource {
@@ -364,6 +366,7 @@ fn shell_source<const D: usize>(p: &Particles<D>, k: usize) -> ShellSource {
         density: p.density[k],
         sound_speed: p.sound_speed[k],
         pressure_term: p.pressure[k] / (p.density[k] * p.density[k]),
+        alpha_factor: 1.0,
     }
 }
 
@@ -398,6 +401,50 @@ impl<const D: usize> PairEquation<D> for RadialDensity<'_> {
 
     fn finish(&self, _: &ShellSource, rho: f64) -> f64 {
         rho
+    }
+}
+
+/// Each real shell's velocity divergence ∇·v = −(1/ρ) Dρ/Dt of the shell density:
+/// −[Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i] with V = m/ρ (the same sum as the continuity
+/// density's), so it carries the hoop terms 2v/r (spherical) or v/r (cylindrical) that a
+/// planar dv/dr lacks. The source of the viscosity switch.
+pub(crate) fn velocity_divergences<const D: usize>(
+    particles: &Particles<D>,
+    neighbours: &NeighbourList,
+    kernel: &RadialKernel,
+) -> Vec<f64> {
+    pairs::gather(&RadialDivergence { kernel }, particles, neighbours)
+}
+
+struct RadialDivergence<'a> {
+    kernel: &'a RadialKernel,
+}
+
+impl<const D: usize> PairEquation<D> for RadialDivergence<'_> {
+    type Source = ShellSource;
+    type Sum = f64;
+    type Output = f64;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> ShellSource {
+        shell_source(p, k)
+    }
+
+    fn start(&self, me: &ShellSource) -> f64 {
+        let self_slope = self.kernel.self_derivative(me.radius, me.smoothing_length);
+        -me.mass / me.density * me.velocity * self_slope
+    }
+
+    #[inline]
+    fn pair(&self, sum: &mut f64, me: &ShellSource, other: &ShellSource, _: &()) {
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        let (_, d1, d2) = self
+            .kernel
+            .value_and_derivatives(me.radius, other.radius, h);
+        *sum -= other.mass / other.density * (me.velocity * d1 + other.velocity * d2);
+    }
+
+    fn finish(&self, _: &ShellSource, divergence: f64) -> f64 {
+        divergence
     }
 }
 
@@ -482,6 +529,9 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
         if self.volume_form {
             source.pressure_term = p.pressure[k] / p.density[k];
         }
+        if let Some(alpha) = p.viscosity_alpha.get(p.real_index(k)) {
+            source.alpha_factor = alpha / self.viscosity.alpha;
+        }
         source
     }
 
@@ -510,7 +560,8 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
         let rho_mean = 0.5 * (me.density + other.density);
         let pi_ij = self
             .viscosity
-            .pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean);
+            .pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean)
+            * (0.5 * (me.alpha_factor + other.alpha_factor));
         let pressure_sum = own + other.pressure_term * self.partner_factor(me);
         sum.acceleration -= m_j * (pressure_sum * d1 + pi_ij * g);
         let flux = v_i * d1 + v_j * d2;

@@ -3,8 +3,8 @@
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    Boundary, Density, Domain, Formulation, IdealGas, Material, ShellDensity, Simulation,
-    SimulationConfig, SmoothingLength, SolverError, Vector,
+    Boundary, Density, Domain, Formulation, IdealGas, Material, Simulation, SimulationConfig,
+    SmoothingLength, SolverError, Vector,
 };
 
 /// A deterministic pseudo-random number in [−1, 1) for particle k (a hash, no generator state).
@@ -292,7 +292,7 @@ fn bad_configuration_names_the_field_and_range() {
     .unwrap_err()
     .to_string();
     assert!(err.contains("density") && err.contains("> 0"), "{err}");
-    // the viscosity switch: α_min above α, a decay outside (0, 1], and a radial geometry
+    // the viscosity switch: α_min above α, a decay outside (0, 1]
     let switched = |alpha_min: f64, decay: f64, formulation: Formulation| {
         let config = SimulationConfig {
             formulation,
@@ -332,17 +332,6 @@ fn bad_configuration_names_the_field_and_range() {
     let err = no_viscosity.validate().unwrap_err().to_string();
     assert!(err.contains("alpha") && err.contains("switch on"), "{err}");
     assert!(switched(0.1, 0.2, planar).is_ok());
-    let err = switched(
-        0.1,
-        0.2,
-        Formulation::Spherical(ShellDensity::Summation(SmoothingLength::Fixed)),
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(
-        err.contains("viscosity switch") && err.contains("radial"),
-        "{err}"
-    );
     // total-Lagrangian solids: κ outside [0, 100], the updated form's pair terms, a fluid
     // material
     let total_lagrangian = |hourglass: f64| SimulationConfig {

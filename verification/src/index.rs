@@ -44,6 +44,11 @@ fn number(x: f64) -> String {
 }
 
 fn check_row(check: &Check) -> String {
+    let status = match (&check.known_limit, check.pass) {
+        (_, true) => "pass".to_string(),
+        (Some(evidence), false) => format!("FAIL at a known limit: {}", escape(evidence)),
+        (None, false) => "FAIL".to_string(),
+    };
     format!(
         "<tr class=\"{}\"><td>{}</td><td>{}</td><td>{} {}</td><td>{}</td></tr>",
         if check.pass { "pass" } else { "fail" },
@@ -51,7 +56,7 @@ fn check_row(check: &Check) -> String {
         number(check.value),
         escape(check.relation),
         number(check.limit),
-        if check.pass { "pass" } else { "FAIL" }
+        status
     )
 }
 
@@ -100,7 +105,12 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
             .filter(|c| !c.pass)
             .map(|c| {
                 format!(
-                    "{}: {} (must be {} {})",
+                    "{}{}: {} (must be {} {})",
+                    if c.known_limit.is_some() {
+                        "at a known limit: "
+                    } else {
+                        ""
+                    },
                     escape(&c.name),
                     number(c.value),
                     escape(c.relation),
@@ -209,5 +219,41 @@ mod tests {
         assert!(html.contains("0 of 1 problems pass"));
         assert!(!html.contains("<?xml"));
         assert_eq!(html.matches("<svg").count(), 2);
+    }
+
+    /// A check at a known limit fails visibly, with its evidence, and does not fail the record;
+    /// an ordinary failure beside it still does.
+    #[test]
+    fn a_known_limit_is_shown_with_its_evidence_and_only_it_is_excused() {
+        let settle = |checks: Vec<Check>| {
+            let run = Run::new("n = 10", "", 10, 0.1);
+            let mut record = Record::new(
+                "demo",
+                Level::Quick,
+                vec![run],
+                Default::default(),
+                checks,
+                0,
+            );
+            record.settle();
+            record
+        };
+        let limit = || Check::at_most("impulse", 0.3, 0.25).known_limit("no afterburning");
+        let excused = settle(vec![limit(), Check::at_least("fine", 2.0, 1.0)]);
+        assert!(excused.pass);
+        let html = page(
+            "quick level",
+            &[Entry {
+                record: &excused,
+                figure_svg: "<svg></svg>",
+            }],
+            "<svg></svg>",
+        );
+        assert!(
+            html.contains("FAIL at a known limit: no afterburning"),
+            "{html}"
+        );
+        assert!(html.contains("at a known limit: impulse: 0.3000"), "{html}");
+        assert!(!settle(vec![limit(), Check::at_least("short", 0.5, 1.0)]).pass);
     }
 }

@@ -64,7 +64,8 @@ impl Library {
             })
     }
 
-    fn value(&self, name: &str, parameter: &str) -> Result<f64, VerifyError> {
+    /// Parameter `parameter` of material `name`, in SI.
+    pub fn value(&self, name: &str, parameter: &str) -> Result<f64, VerifyError> {
         let entry = self.entry(name)?;
         entry
             .parameters

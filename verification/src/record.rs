@@ -15,9 +15,31 @@ pub struct Check {
     /// "<=" or ">=": how value must relate to limit.
     pub relation: &'static str,
     pub pass: bool,
+    /// A limit of the physics the problem models, with the evidence for it: the check is
+    /// evaluated and shown like any other, but its failure does not fail the record (see
+    /// [`Check::known_limit`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub known_limit: Option<String>,
 }
 
 impl Check {
+    /// Marks the check as measuring a known limit of the modelled physics, with `evidence`:
+    /// what was measured that shows the gap is the model's and not the numerics' (for
+    /// example, an error that resolution does not change while the others converge). Reports
+    /// list it with the evidence wherever they list failed checks, so it is never hidden;
+    /// it just does not fail the record.
+    pub fn known_limit(self, evidence: impl Into<String>) -> Self {
+        Self {
+            known_limit: Some(evidence.into()),
+            ..self
+        }
+    }
+
+    /// Passes, or fails at a known limit of the physics.
+    pub fn holds(&self) -> bool {
+        self.pass || self.known_limit.is_some()
+    }
+
     /// Passes when value ≤ limit (a NaN never passes).
     pub fn at_most(name: impl Into<String>, value: f64, limit: f64) -> Self {
         Self {
@@ -26,6 +48,7 @@ impl Check {
             limit,
             relation: "<=",
             pass: value <= limit,
+            known_limit: None,
         }
     }
 
@@ -37,6 +60,7 @@ impl Check {
             limit,
             relation: ">=",
             pass: value >= limit,
+            known_limit: None,
         }
     }
 }
@@ -66,6 +90,9 @@ pub struct Run {
     /// work–precision plot: they show how much a result owes to the choice.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<String>,
+    /// What the run's gauges read (blast problems); empty elsewhere.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub gauges: Vec<crate::gauges::Gauge>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -149,6 +176,7 @@ impl Run {
             phase_s: BTreeMap::new(),
             failure: None,
             sensitivity: None,
+            gauges: Vec::new(),
         }
     }
 }
@@ -281,9 +309,10 @@ impl Record {
         }
     }
 
-    /// Sets `pass` from the checks (a record without checks does not pass).
+    /// Sets `pass` from the checks (a record without checks does not pass; a check at a known
+    /// limit of the physics does not fail it).
     pub fn settle(&mut self) {
-        self.pass = !self.checks.is_empty() && self.checks.iter().all(|c| c.pass);
+        self.pass = !self.checks.is_empty() && self.checks.iter().all(Check::holds);
     }
 
     pub fn headline(&self) -> Option<&Run> {

@@ -125,6 +125,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             phase_s: BTreeMap::new(),
             failure: None,
             sensitivity: None,
+            gauges: Vec::new(),
         });
         columns.push(format!("standard_h{h}"));
         table_columns.push(standard[..EVALUATION_POINTS].to_vec());

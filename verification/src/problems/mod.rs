@@ -1,6 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
+mod airblast;
 mod biaxial;
 mod capillary_pair;
 mod colliding_rings;
@@ -42,6 +43,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(biaxial::info());
     list.extend(taylor_bar::infos());
     list.push(thesis_arrivals::info());
+    list.extend(airblast::infos());
     list
 }
 
@@ -111,6 +113,8 @@ fn run_here(
         taylor_bar::run(name, &params, level, progress)?
     } else if name == elastic_wave::NAME {
         elastic_wave::run(&params, progress)?
+    } else if airblast::NAMES.contains(&name) {
+        airblast::run(name, &params, progress)?
     } else if name == tnt_slab::NAME {
         tnt_slab::run(&params, progress)?
     } else if name == density_ratio_tube::NAME {

@@ -309,6 +309,7 @@ fn run_blast<const D: usize>(
         phase_s: BTreeMap::new(),
         failure: None,
         sensitivity: None,
+        gauges: Vec::new(),
     };
     let start = std::time::Instant::now();
     let mut sim = match Simulation::<D>::new(&init, vec![gas], domain, s.config) {

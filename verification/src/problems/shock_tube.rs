@@ -368,6 +368,7 @@ fn run_tube(
                 phase_s: BTreeMap::new(),
                 failure: Some(diagnosis),
                 sensitivity: None,
+                gauges: Vec::new(),
             };
             return Ok(TubeRun {
                 run,
@@ -412,6 +413,7 @@ fn run_tube(
         phase_s: phase_seconds(&sim.phase_times()),
         failure: None,
         sensitivity: None,
+        gauges: Vec::new(),
     };
     if let Err(e) = outcome {
         run.failure = Some(e.to_string());
