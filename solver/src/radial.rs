@@ -29,7 +29,7 @@ use crate::neighbours::NeighbourList;
 use crate::pairs::{self, PairEquation};
 use crate::particles::Particles;
 use crate::physics::{signal_speed, ArtificialViscosity, EnergyEquation};
-use crate::Vector;
+use crate::{Tensor, Vector};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The symmetry of a scene.
@@ -461,12 +461,23 @@ impl<const D: usize> PairEquation<D> for RadialDivergence<'_> {
 /// Dρ_i/Dt = ρ_i [Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i] with V = m/ρ, so that
 /// De_i/Dt = (p_i/ρ_i²) Dρ_i/Dt + viscous heating
 /// (see [`crate::formulation::ShellDensity::Continuity`]).
+///
+/// Solids, in spheres: the deviator of a spherically symmetric stress is
+/// s = s_rr (e_r e_r − ½ e_θ e_θ − ½ e_φ e_φ), so ∇·σ = ∂(−p + s_rr)/∂r + 3 s_rr/r. The pair
+/// terms carry −σ_rr = p − s_rr in place of p (its radial gradient, and the matching heating
+/// (p − s_rr)/ρ · (−∇·v)), and each shell adds the hoop force 3 s_rr/(ρ r) with its own work
+/// −3 s_rr v/(ρ r) as heating; together the heating is s:ε̇/ρ = s_rr (ε̇_rr − ε̇_θθ)/ρ with
+/// ε̇_rr = ∇·v − 2v/r and ε̇_θθ = ε̇_φφ = v/r, the same ∇·v the pair sums give, so the stress
+/// conserves total energy as the pressure does. The Jaumann rate of s_rr is the 1D rate with
+/// two out-of-plane normal rates v/r (no spin in radial flow). `shear_modulus[m]` is material
+/// m's G (0 for a fluid); empty in a fluid scene.
 pub fn radial_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
     kernel: &RadialKernel,
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
+    shear_modulus: &[f64],
 ) {
     let equation = RadialRates {
         kernel,
@@ -483,7 +494,36 @@ pub fn radial_rates<const D: usize>(
         if equation.volume_form {
             p.density_rate[i] = p.density[i] * rate.divergence;
         }
+        if !p.deviatoric_stress.is_empty() {
+            add_spherical_stress_terms(p, i, -rate.divergence, shear_modulus);
+        }
     }
+}
+
+/// The hoop force and heating of shell i's deviatoric stress, its equivalent strain rate and
+/// its stress rate, given ∇·v_i (see [`radial_rates`]).
+fn add_spherical_stress_terms<const D: usize>(
+    p: &mut Particles<D>,
+    i: usize,
+    divergence: f64,
+    shear_modulus: &[f64],
+) {
+    let (r, v) = (p.position[i][0], p.velocity[i][0]);
+    let hoop_rate = if r > 0.0 { v / r } else { 0.0 };
+    let radial_rate = divergence - 2.0 * hoop_rate;
+    let s_rr = p.deviatoric_stress[i][(0, 0)];
+    if r > 0.0 {
+        p.acceleration[i][0] += 3.0 * s_rr / (p.density[i] * r);
+    }
+    p.energy_rate[i] -= 3.0 * s_rr * hoop_rate / p.density[i];
+    let gradient = Tensor::<D>::from_fn(|a, b| if a == 0 && b == 0 { radial_rate } else { 0.0 });
+    p.strain_rate[i] = crate::strength::equivalent_strain_rate(&gradient, hoop_rate);
+    let g = shear_modulus[p.material_of(i)];
+    p.stress_rate[i] = if g > 0.0 {
+        crate::strength::jaumann_rate(g, &p.deviatoric_stress[i], &gradient, hoop_rate)
+    } else {
+        Tensor::zeros()
+    };
 }
 
 /// What [`RadialRates`] sums for one shell.
@@ -492,7 +532,8 @@ struct ShellRates {
     acceleration: f64,
     heating: f64,
     signal_speed: f64,
-    /// Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i, the velocity divergence Dρ/Dt divides by ρ.
+    /// −∇·v: Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i, which Dρ/Dt divides by ρ (with summation
+    /// density m_j/ρ_i in place of V_j, the weights of its heating).
     divergence: f64,
 }
 
@@ -526,9 +567,16 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
 
     fn source(&self, p: &Particles<D>, k: usize) -> ShellSource {
         let mut source = shell_source(p, k);
-        if self.volume_form {
-            source.pressure_term = p.pressure[k] / p.density[k];
-        }
+        // −σ_rr in the pressure's place (see `radial_rates`)
+        let stress = p.pressure[k]
+            - p.deviatoric_stress
+                .get(p.real_index(k))
+                .map_or(0.0, |s| s[(0, 0)]);
+        source.pressure_term = if self.volume_form {
+            stress / p.density[k]
+        } else {
+            stress / (p.density[k] * p.density[k])
+        };
         if let Some(alpha) = p.viscosity_alpha.get(p.real_index(k)) {
             source.alpha_factor = alpha / self.viscosity.alpha;
         }
@@ -570,7 +618,12 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
             EnergyEquation::OwnPressure => own * compression,
             EnergyEquation::Symmetric => 0.5 * pressure_sum * compression,
         } + 0.5 * m_j * pi_ij * v_ij * g;
-        sum.divergence += m_j / other.density * flux;
+        // V_j in the volume form; m_j/ρ_i with summation density, as its heating weighs it
+        sum.divergence += if self.volume_form {
+            m_j / other.density
+        } else {
+            m_j / me.density
+        } * flux;
         let approach = if x_ij == 0.0 {
             0.0
         } else {
