@@ -249,6 +249,10 @@ impl RadialKernel {
         let k = ends.partition_point(|&end| end <= q);
         let start = if k == 0 { 0.0 } else { ends[k - 1] };
         let below = if k == 0 { 0.0 } else { self.piece_sums[k - 1] };
+        if q <= start {
+            // at a knot, or beyond the support (where r_i + r_j mostly lies): the table alone
+            return below / h;
+        }
         (below + self.piece_integral(start, q)) / h
     }
 
