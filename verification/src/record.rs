@@ -284,6 +284,27 @@ pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f6
     .collect()
 }
 
+/// The errors that stand for a run's accuracy, the first a run has: the L1 density error (shock
+/// tubes, Sedov, the water–air tube), the L1 velocity error over the impact speed (interface
+/// problems), the L1 pressure error over p_CJ (detonation), the mean peak-overpressure error
+/// of the gated gauges against the scaled-distance relations (blast waves).
+pub const HEADLINE_ERRORS: [&str; 4] = [
+    "l1_rho",
+    "l1_u_over_v",
+    "l1_p_over_p_cj",
+    "mean_peak_overpressure_error",
+];
+
+impl Run {
+    /// The run's headline error and its name (see [`HEADLINE_ERRORS`]), the one the
+    /// work–precision figure plots and the summaries show first.
+    pub fn headline_error(&self) -> Option<(&'static str, f64)> {
+        HEADLINE_ERRORS
+            .iter()
+            .find_map(|&name| self.errors.get(name).map(|&e| (name, e)))
+    }
+}
+
 impl Record {
     /// The record of one problem's runs; `problems::run` fills in the parameters, the wall time
     /// and `pass`.
@@ -319,11 +340,20 @@ impl Record {
         self.runs.get(self.headline_run)
     }
 
-    /// The errors a one-line summary shows: the headline run's first three, by name.
+    /// The errors a one-line summary shows: the headline run's headline error (see
+    /// [`Run::headline_error`]) and then the others by name, three in all.
     pub fn headline_errors(&self) -> impl Iterator<Item = (&String, &f64)> {
-        self.headline()
-            .into_iter()
-            .flat_map(|run| run.errors.iter().take(3))
+        self.headline().into_iter().flat_map(|run| {
+            let first = run.headline_error().map(|(name, _)| name);
+            let lead = first.and_then(|name| run.errors.get_key_value(name));
+            lead.into_iter()
+                .chain(
+                    run.errors
+                        .iter()
+                        .filter(move |(k, _)| Some(k.as_str()) != first),
+                )
+                .take(3)
+        })
     }
 
     pub fn check(&self, name: &str) -> Option<&Check> {
@@ -361,4 +391,37 @@ pub struct ProblemOutput {
     /// The particles at the end of the finest run, for `--vtk`; None where the problem runs no
     /// simulation.
     pub snapshot: Option<crate::vtk::Snapshot>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A summary leads with the run's headline error, whatever its name sorts as, then the
+    /// others by name, three in all; a run without one shows its first three by name.
+    #[test]
+    fn summaries_lead_with_the_headline_error() {
+        let mut run = Run::new("n = 10", "", 10, 0.1);
+        for (name, value) in [
+            ("arrival", 1.0),
+            ("impulse", 2.0),
+            ("l1_e", 3.0),
+            ("l1_rho", 4.0),
+        ] {
+            run.errors.insert(name.into(), value);
+        }
+        let record =
+            |run: Run| Record::new("demo", Level::Quick, vec![run], BTreeMap::new(), vec![], 0);
+        let names = |record: &Record| -> Vec<String> {
+            record.headline_errors().map(|(k, _)| k.clone()).collect()
+        };
+        assert_eq!(run.headline_error(), Some(("l1_rho", 4.0)));
+        assert_eq!(
+            names(&record(run.clone())),
+            ["l1_rho", "arrival", "impulse"]
+        );
+        run.errors.remove("l1_rho");
+        assert_eq!(run.headline_error(), None);
+        assert_eq!(names(&record(run)), ["arrival", "impulse", "l1_e"]);
+    }
 }

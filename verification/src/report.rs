@@ -97,11 +97,6 @@ pub fn write_snapshot(dir: &Path, output: &ProblemOutput) -> Result<Option<PathB
     Ok(written.pop())
 }
 
-/// The errors a work–precision plot shows, the first a run has: the L1 density error (shock
-/// tubes, Sedov, the water–air tube), the L1 velocity error over the impact speed (interface
-/// problems), the L1 pressure error over p_CJ (detonation).
-const WORK_PRECISION_ERRORS: [&str; 3] = ["l1_rho", "l1_u_over_v", "l1_p_over_p_cj"];
-
 /// A series' label and its (log10 wall time, log10 error) points.
 type LabelledPoints = (String, Vec<(f64, f64)>);
 
@@ -111,12 +106,14 @@ fn problem_family(problem: &str) -> &'static str {
         "shock tubes"
     } else if problem.starts_with("sedov") {
         "Sedov blasts"
+    } else if problem.starts_with("airblast") || problem == "hopkinson-cranz" {
+        "air blast against Kingery–Bulmash"
     } else {
         "interfaces and detonation"
     }
 }
 
-/// Work against precision over several problems: the headline L1 error of every completed run
+/// Work against precision over several problems: the headline error of every completed run
 /// against its wall time (log10 on both axes), one panel per problem family and one series per
 /// problem and formulation, as SVG and CSV. Returns the paths and the SVG.
 pub fn write_work_precision(
@@ -143,10 +140,7 @@ pub fn write_work_precision(
             .iter()
             .filter(|r| r.failure.is_none() && r.sensitivity.is_none())
         {
-            let Some((name, error)) = WORK_PRECISION_ERRORS
-                .iter()
-                .find_map(|&name| run.errors.get(name).map(|&e| (name, e)))
-            else {
+            let Some((name, error)) = run.headline_error() else {
                 continue;
             };
             csv.write_record([
@@ -187,7 +181,7 @@ pub fn write_work_precision(
         .map(|(family, series)| Panel {
             title: family.to_string(),
             x_label: "log10 wall time (s)".into(),
-            y_label: "log10 L1 error (named in the legend)".into(),
+            y_label: "log10 error (named in the legend)".into(),
             series: series
                 .into_iter()
                 .map(|(label, mut points)| {
@@ -203,7 +197,7 @@ pub fn write_work_precision(
         .collect();
     let figure = Figure {
         title: format!(
-            "work–precision: L1 error against wall time ({} cores)",
+            "work–precision: headline error against wall time ({} cores)",
             rayon::current_num_threads()
         ),
         panels,
