@@ -1090,26 +1090,25 @@ mod tests {
         }
     }
 
-    /// A spherical shell of elastic solid, a < r < b, around an empty cavity, holding the
-    /// deviator of Lamé's pressurised cavity, s_rr = −P (a/r)³ (with s_θθ = s_φφ = −s_rr/2 and
-    /// no pressure), is in equilibrium: ∂s_rr/∂r + 3 s_rr/r = 0. Clear of both free surfaces
-    /// the net acceleration must stay below 5e-3 of the hoop term 3|s_rr|/(ρ r) it balances
-    /// (measured ≤ 5.3e-4: the lattice sums' error). And a homologous flow v = c r strains
-    /// every direction alike, so it leaves the deviator unchanged: the stress rate must stay
-    /// below 1e-4 of 2Gc (measured ≤ 1.4e-5, the divergence's lattice error).
-    #[test]
-    fn a_spherical_solid_holds_lames_cavity_stress_in_equilibrium() {
+    // the cavity's radius a, the shell's outer radius b, the shells' width, the cavity's
+    // pressure P and the solid's density
+    const LAME_INNER: f64 = 0.5;
+    const LAME_OUTER: f64 = 1.5;
+    const LAME_SPACING: f64 = 0.005;
+    const LAME_PRESSURE: f64 = 1e8;
+    const LAME_DENSITY: f64 = 8930.0;
+
+    /// Lamé's pressurised spherical cavity: a shell of copper-like solid with `strength`,
+    /// a < r < b, at rest and at its reference density (no pressure), holding the cavity's
+    /// deviator s_rr = −P (a/r)³.
+    fn lame_cavity(strength: crate::strength::Strength) -> Simulation<1> {
         use crate::eos::MieGruneisen;
         use crate::formulation::ShellDensity;
-        use crate::strength::Strength;
-        let (a, b, dr, cavity_pressure): (f64, f64, f64, f64) = (0.5, 1.5, 0.005, 1e8);
-        let (rho0, bulk, shear) = (8930.0, 140e9, 43e9);
-        let solid = || {
-            let eos = MieGruneisen::linear(rho0, (bulk / rho0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY)
-                .unwrap();
-            Material::new("copper", eos).with_strength(Strength::elastic(shear).unwrap())
-        };
-        let shells = ((b - a) / dr).round() as usize;
+        let (a, dr, rho0, bulk) = (LAME_INNER, LAME_SPACING, LAME_DENSITY, 140e9);
+        let eos =
+            MieGruneisen::linear(rho0, (bulk / rho0).sqrt(), 0.0, 0.0, f64::NEG_INFINITY).unwrap();
+        let solid = Material::new("copper", eos).with_strength(strength);
+        let shells = ((LAME_OUTER - a) / dr).round() as usize;
         let init: Vec<ParticleInit<1>> = (0..shells)
             .map(|k| {
                 let (r0, r1) = (a + k as f64 * dr, a + (k + 1) as f64 * dr);
@@ -1128,12 +1127,27 @@ mod tests {
             formulation: Formulation::Spherical(ShellDensity::Continuity(SmoothingLength::Fixed)),
             ..SimulationConfig::default()
         };
-        let mut sim = Simulation::new(&init, vec![solid()], Domain::open(), config).unwrap();
-        let interior = |r: f64| r > a + 8.0 * dr && r < b - 8.0 * dr;
+        let mut sim = Simulation::new(&init, vec![solid], Domain::open(), config).unwrap();
         for i in 0..sim.particles.n_real() {
             let r = sim.particles.position[i][0];
-            sim.particles.deviatoric_stress[i][(0, 0)] = -cavity_pressure * (a / r).powi(3);
+            sim.particles.deviatoric_stress[i][(0, 0)] = -LAME_PRESSURE * (a / r).powi(3);
         }
+        sim
+    }
+
+    /// A spherical shell of elastic solid around an empty cavity holding the deviator of
+    /// Lamé's pressurised cavity ([`lame_cavity`]; s_θθ = s_φφ = −s_rr/2, no pressure) is in
+    /// equilibrium: ∂s_rr/∂r + 3 s_rr/r = 0. Clear of both free surfaces the net acceleration
+    /// must stay below 5e-3 of the hoop term 3|s_rr|/(ρ r) it balances (measured ≤ 5.3e-4: the
+    /// lattice sums' error). And a homologous flow v = c r strains every direction alike, so it
+    /// leaves the deviator unchanged: the stress rate must stay below 1e-4 of 2Gc (measured
+    /// ≤ 1.4e-5, the divergence's lattice error).
+    #[test]
+    fn a_spherical_solid_holds_lames_cavity_stress_in_equilibrium() {
+        use crate::strength::Strength;
+        let (a, b, dr, rho0, shear) = (LAME_INNER, LAME_OUTER, LAME_SPACING, LAME_DENSITY, 43e9);
+        let mut sim = lame_cavity(Strength::elastic(shear).unwrap());
+        let interior = |r: f64| r > a + 8.0 * dr && r < b - 8.0 * dr;
         sim.evaluate_rates(0.0).unwrap();
         let p = &sim.particles;
         for i in (0..p.n_real()).filter(|&i| interior(p.position[i][0])) {
@@ -1159,6 +1173,45 @@ mod tests {
                 "r = {}: {stress_rate:e}",
                 p.position[i][0]
             );
+        }
+    }
+
+    /// The same cavity stress in a von Mises solid that yields at 40 MPa: where it exceeds the
+    /// yield (σ_eq = 3/2 |s_rr| = 150 MPa at the cavity, down to 40 MPa at r = 0.78 m) one step
+    /// returns it onto the yield surface, with plastic strain (σ_eq − Y)/(3G); beyond, the shell
+    /// stays elastic with none.
+    #[test]
+    fn a_spherical_solid_returns_to_its_yield_surface() {
+        use crate::strength::{von_mises, Strength};
+        let (shear, yield_stress) = (43e9, 40e6);
+        let mut sim = lame_cavity(Strength::new(shear, yield_stress, 0.0).unwrap());
+        let before: Vec<f64> = sim
+            .particles
+            .deviatoric_stress
+            .iter()
+            .map(von_mises)
+            .collect();
+        sim.step(1e-9).unwrap();
+        let p = &sim.particles;
+        for (i, &initial) in before.iter().enumerate() {
+            let (sigma, strain) = (von_mises(&p.deviatoric_stress[i]), p.plastic_strain[i]);
+            let r = p.position[i][0];
+            if initial > 1.001 * yield_stress {
+                assert!(
+                    (sigma / yield_stress - 1.0).abs() < 1e-3,
+                    "r = {r}: σ_eq {sigma:e}"
+                );
+                let expected = (initial - yield_stress) / (3.0 * shear);
+                assert!(
+                    (strain / expected - 1.0).abs() < 1e-2,
+                    "r = {r}: ε_p {strain:e} for {expected:e}"
+                );
+            } else if initial < 0.999 * yield_stress {
+                assert!(
+                    strain == 0.0 && sigma < yield_stress,
+                    "r = {r}: {sigma:e}, {strain:e}"
+                );
+            }
         }
     }
 }
