@@ -1,6 +1,7 @@
 //! `blastsph`: the command line. It parses, shows progress, prints tables and writes files; the
 //! work is done by `blastsph-verification` and `blastsph-solver`.
 
+use blastsph_verification::gate::{self, GateRequest};
 use blastsph_verification::impedance::{self, Drive};
 use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
@@ -141,6 +142,35 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The free-field gate a study of this charge in this soil rests on: air blast at the
+    /// charge, ground shock at the study's depths, Hopkinson–Cranz, resolution convergence.
+    /// A result is reused while the request and the program are the same (keyed by a hash of
+    /// both). Exit 0 when it passes, 3 when it fails, 2 on bad input.
+    Gate {
+        /// TNT mass (kg).
+        #[arg(long, allow_negative_numbers = true)]
+        charge: f64,
+        /// A TM 5-855-1 soil with a material model: dry-sand-backfill.
+        #[arg(long)]
+        soil: String,
+        /// The study's gauge depths below the charge (m), comma-separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "10,15,20",
+            allow_negative_numbers = true
+        )]
+        depths: Vec<f64>,
+        /// quick: two resolutions of the ground shock; full: three, and the problems' full
+        /// levels.
+        #[arg(long, value_enum, default_value = "quick")]
+        level: LevelArg,
+        /// Folder for gate-<hash>.json.
+        #[arg(long, default_value = "results/gate")]
+        out: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
     /// Moist soil at grain scale: liquid bridges between grains.
     Soil {
         #[command(subcommand)]
@@ -220,6 +250,15 @@ struct BridgeArgs {
     json: bool,
 }
 
+impl From<LevelArg> for Level {
+    fn from(level: LevelArg) -> Self {
+        match level {
+            LevelArg::Quick => Level::Quick,
+            LevelArg::Full => Level::Full,
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -265,6 +304,29 @@ fn main() -> ExitCode {
         } => riemann_command(&left, &right, gamma, json).map(|_| true),
         Command::Soil { command } => soil_command(command).map(|_| true),
         Command::CheckArrivals { file, soil, json } => check_arrivals_command(&file, &soil, json),
+        Command::Gate {
+            charge,
+            soil,
+            depths,
+            level,
+            out,
+            json,
+        } => {
+            let request = GateRequest {
+                charge_kg: charge,
+                soil,
+                depths_m: depths,
+                level: level.into(),
+            };
+            return match gate_command(&request, &out, json) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => ExitCode::from(3),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            };
+        }
         Command::Scaled {
             charge,
             range,
@@ -320,10 +382,7 @@ fn verify(
     set: Vec<String>,
     vtk: bool,
 ) -> Result<bool, VerifyError> {
-    let level = match level {
-        LevelArg::Quick => Level::Quick,
-        LevelArg::Full => Level::Full,
-    };
+    let level = Level::from(level);
     let names: Vec<String> = if names.is_empty() {
         problems::names().iter().map(|s| s.to_string()).collect()
     } else {
@@ -549,6 +608,73 @@ fn impedance_command(
         );
     }
     Ok(())
+}
+
+/// Runs (or reuses) the gate and prints its verdict; Ok(true) when it passed.
+fn gate_command(request: &GateRequest, out: &Path, json: bool) -> Result<bool, VerifyError> {
+    gate::validate(request)?;
+    report::ensure_writable(out)?;
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:22} [{bar:40}] {percent:>3}% eta {eta}")
+            .expect("valid template"),
+    );
+    let (report, reused) = gate::run_gate(request, out, &|name, f| {
+        bar.set_message(name.to_string());
+        bar.set_position((f * 1000.0) as u64);
+    })?;
+    bar.finish_and_clear();
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("json"));
+        return Ok(report.pass);
+    }
+    let verdict = |pass: bool| if pass { "PASS" } else { "FAIL" };
+    println!(
+        "gate for {} kg TNT in {}, depths {:?} m, level {}{}",
+        request.charge_kg,
+        request.soil,
+        request.depths_m,
+        request.level.name(),
+        if reused {
+            " (reused: same request, same program)"
+        } else {
+            ""
+        }
+    );
+    let failed = |checks: &[gate::GateCheck]| {
+        for c in checks.iter().filter(|c| !c.pass) {
+            let known = c
+                .known_limit
+                .as_ref()
+                .map_or(String::new(), |e| format!(" [known limit: {e}]"));
+            println!(
+                "    FAIL {}: {:.4e} (must be {} {:.4e}){known}",
+                c.name, c.value, c.relation, c.limit
+            );
+        }
+    };
+    for p in &report.problems {
+        println!(
+            "  {:24} {:>8.1} s  {}",
+            p.problem,
+            p.wall_s,
+            verdict(p.pass)
+        );
+        failed(&p.checks);
+    }
+    for c in &report.checks {
+        println!("  {:24} {:>10.3e}  {}", c.name, c.value, verdict(c.pass));
+    }
+    failed(&report.checks);
+    for missing in &report.not_covered {
+        println!("  not covered: {missing}");
+    }
+    println!(
+        "gate {}: {}",
+        verdict(report.pass),
+        gate::report_path(out, &report.inputs_hash).display()
+    );
+    Ok(report.pass)
 }
 
 fn check_arrivals_command(file: &Path, soil: &str, json: bool) -> Result<bool, VerifyError> {

@@ -5,6 +5,7 @@
 //! returns a [`record::Record`] with profiles and a plot. `blastsph verify` and `cargo test`
 //! both call [`problems::run`], so the tests exercise exactly what the CLI runs.
 
+pub mod gate;
 pub mod gauges;
 pub mod impedance;
 pub mod index;
@@ -25,7 +26,7 @@ pub mod vtk;
 use thiserror::Error;
 
 /// How much work a problem does: `quick` for `cargo test`, `full` for convergence studies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Level {
     Quick,

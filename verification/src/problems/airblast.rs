@@ -191,7 +191,7 @@ fn settings(params: &Params, burst: Burst, charge_kg: f64) -> Result<Settings, V
     })
 }
 
-fn viscosity(params: &Params) -> Result<ArtificialViscosity, VerifyError> {
+pub(super) fn viscosity(params: &Params) -> Result<ArtificialViscosity, VerifyError> {
     let viscosity = ArtificialViscosity::default();
     let alpha_min = params.number("alpha_min", 0.0, viscosity.alpha)?;
     Ok(ArtificialViscosity {
@@ -328,13 +328,13 @@ fn rezone(
 }
 
 /// The radius of a TNT sphere of `mass` at density `rho`.
-fn charge_radius(mass: f64, rho: f64) -> f64 {
+pub(super) fn charge_radius(mass: f64, rho: f64) -> f64 {
     (3.0 * mass / (4.0 * PI * rho)).cbrt()
 }
 
 /// The shells' edges: n equal shells across the charge, then the air's, each
 /// max(R_c/n, g·r/n) wide, out to `outer`.
-fn shell_edges(radius: f64, n: usize, grading: f64, outer: f64) -> Vec<f64> {
+pub(super) fn shell_edges(radius: f64, n: usize, grading: f64, outer: f64) -> Vec<f64> {
     let inner = radius / n as f64;
     let mut edges: Vec<f64> = (0..=n).map(|k| k as f64 * inner).collect();
     let mut r = radius;
@@ -555,7 +555,7 @@ fn impulse_evidence(
 }
 
 /// |value/reference − 1| (NaN where the value is).
-fn relative_error(value: f64, reference: f64) -> f64 {
+pub(super) fn relative_error(value: f64, reference: f64) -> f64 {
     (value / reference - 1.0).abs()
 }
 
@@ -604,7 +604,7 @@ pub fn run(
 /// Every run completed, and (where it did) kept its energy: the chemical energy is in e from
 /// the start (as in tnt-slab); radial momentum is not conserved in spherical symmetry, so only
 /// the energy check applies.
-fn health_checks(run: &Run) -> Vec<Check> {
+pub(super) fn health_checks(run: &Run) -> Vec<Check> {
     let mut checks = vec![Check::at_least(
         format!(
             "completed_without_blow_up_{}",

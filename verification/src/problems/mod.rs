@@ -7,6 +7,7 @@ mod capillary_pair;
 mod colliding_rings;
 mod density_ratio_tube;
 mod elastic_wave;
+pub mod ground_shock;
 mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
@@ -44,6 +45,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.extend(taylor_bar::infos());
     list.push(thesis_arrivals::info());
     list.extend(airblast::infos());
+    list.push(ground_shock::info());
     list
 }
 
@@ -73,6 +75,9 @@ pub fn preflight(
     let params = Params::new(name, &info.params, level, overrides)?;
     if sedov_blast::is_sedov(name) {
         sedov_blast::resolutions(name, &params)?;
+    }
+    if name == ground_shock::SPHERICAL {
+        ground_shock::check_gauges(&params)?;
     }
     Ok(())
 }
@@ -115,6 +120,8 @@ fn run_here(
         elastic_wave::run(&params, progress)?
     } else if airblast::NAMES.contains(&name) {
         airblast::run(name, &params, progress)?
+    } else if name == ground_shock::SPHERICAL {
+        ground_shock::run(&params, progress)?
     } else if name == tnt_slab::NAME {
         tnt_slab::run(&params, progress)?
     } else if name == density_ratio_tube::NAME {

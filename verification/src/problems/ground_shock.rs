@@ -1,0 +1,704 @@
+//! `ground-shock-spherical`: a fully buried TNT sphere in dry sand against the free-field
+//! ground-shock relations (Drake 1983 / TM 5-855-1 / ConWep, [`crate::scaled::ground_shock`])
+//! for dry sand with coupling factor f = 1.
+//!
+//! Set-up: W kg of TNT (JWL, LLNL set, lit at its centre and burnt at D_CJ) as a sphere of
+//! radius R_c = (3W/(4πρ_TNT))^{1/3} inside the library's `dry-sand` (Laine & Sandvik 2001
+//! compaction EOS: the plastic compaction path of their Table 1, elastic unloading at the
+//! tabulated bulk sound speed c(ρ), no tension), 1D spherical shells with continuity density
+//! and h floored at its start (the sand beside the growing cavity is stretched in the hoop
+//! directions and thinned radially: without the floor its h, and with it the time step,
+//! collapse). The charge holds n shells of width R_c/n; the sand's shells are
+//! max(R_c/n, g·r/n) wide (the pulse lengthens with range) out to twice the last gauge, an
+//! open edge whose reflection cannot reach the last gauge within the run (it travels out and
+//! back through unloaded sand at ≤ 400 m/s, see [`OUTER_OVER_LAST_GAUGE`]).
+//!
+//! Two variants of the sand:
+//! - `drucker-prager`: with shear strength, Drucker–Prager on the Mohr–Coulomb compression
+//!   meridian with the cohesion c and friction angle φ of the parameters (defaults: a dry sand
+//!   has no cohesion, c = 0; φ = 30°, the lower end of the 30–45° that handbooks give for
+//!   sands, e.g. Look 2007, *Handbook of Geotechnical Investigation and Design Tables*, table
+//!   of non-cohesive soils: loose sand 30–35°; the DEM calibration of this project
+//!   (`biaxial`) is 2D disks, whose 18° is a property of disks, not of sand). The shear
+//!   modulus G = 3K(1 − 2ν)/(2(1 + ν)) from the bulk modulus of the unloaded sand,
+//!   K = ρ0 c(ρ0)², and Poisson's ratio ν = 0.22 (the value of the Sjöbo-sand input example
+//!   of Altair Radioss' granular law /MAT/LAW133). G is constant: the Sjöbo data give G(ρ)
+//!   only as a figure (Laine & Sandvik 2001 Fig. 7, not verified here);
+//! - `no-shear`: the sand as a fluid, the classic hydrocode set-up, reported beside it and not
+//!   gated. Laine & Larsen (2012) found that the compaction EOS alone attenuates the ground
+//!   shock far too little beyond about 1 m/kg^{1/3}; the record shows whether this one does.
+//!
+//! Gauges at fixed ranges read the compressive radial stress −σ_rr and the radial velocity
+//! after every step. Checked, for the `drucker-prager` variant at the finest resolution,
+//! against the relations for dry sand and backfill (ρ = 1630 kg/m³, c = 305 m/s, n = 2.75,
+//! the TM 5-855-1 soil whose density is nearest Sjöbo sand's 1674 kg/m³): arrival within 30 %
+//! and peak stress and velocity within a factor 3. A factor 3 is the band within which
+//! hydrocode peaks and ConWep's are usually found to agree (Drake & Little 1983 fit field
+//! data whose scatter about the relations is itself about a factor 2 either way, and
+//! TM 5-855-1 presents the relations as estimates for design, not as predictions). The
+//! attenuation exponent n fitted to the peak velocities beyond the first gauge is recorded
+//! for both variants beside the relations'.
+
+use super::airblast::{charge_radius, health_checks, relative_error, shell_edges, viscosity};
+use crate::gauges::GaugeTrace;
+use crate::materials::Library;
+use crate::params::{ParamSpec, Params};
+use crate::record::{Check, Conservation, ProblemOutput, Record, Run, Table};
+use crate::scaled::explosives::explosive;
+use crate::scaled::ground_shock::{ground_shock, soil, GroundShock, Soil};
+use crate::svg::{Figure, Panel, Series, Style};
+use crate::vtk::Snapshot;
+use crate::{Level, VerifyError};
+use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::{
+    Domain, EnergyEquation, Formulation, Geometry, KernelShape, Material, ProgrammedBurn,
+    ShellDensity, Simulation, SimulationConfig, SmoothingLength, Strength, Vector,
+};
+
+pub const SPHERICAL: &str = "ground-shock-spherical";
+
+/// The TM 5-855-1 soils this problem can simulate, each with the library material that models
+/// it: dry sand and backfill (ρ = 1630 kg/m³) by Sjöbo sand (1674 kg/m³), the table's soil
+/// nearest it in density and description.
+pub const MODELLED_SOILS: [(&str, &str); 1] = [("dry-sand-backfill", "dry-sand")];
+
+/// The library material that models the TM 5-855-1 soil `name`.
+pub fn soil_model(name: &str) -> Result<&'static str, VerifyError> {
+    MODELLED_SOILS
+        .iter()
+        .find(|(soil, _)| *soil == name)
+        .map(|(_, material)| *material)
+        .ok_or_else(|| {
+            let names: Vec<&str> = MODELLED_SOILS.iter().map(|(soil, _)| *soil).collect();
+            VerifyError::bad_value(
+                "soil",
+                name,
+                &format!("one with a material model: {}", names.join(", ")),
+            )
+        })
+}
+/// A fully buried charge: the relations' coupling factor.
+const COUPLING: f64 = 1.0;
+/// Limits against the relations: arrival within 30 %, peaks within a factor 3 (see the
+/// module's comment).
+const ARRIVAL_LIMIT: f64 = 0.30;
+const PEAK_FACTOR_LIMIT: f64 = 3.0;
+/// The open outer edge, in units of the last gauge's range: the loading wave reaches it at
+/// 2r/c0 and its reflection comes back to the last gauge at 3r/c, later than the run's end
+/// (1.5 r/c_ref, [`END_MARGIN`]) while the sand carries it slower than 2 c_ref ≈ 610 m/s; the
+/// unloaded sand's sound speed is 265 m/s and its P-wave speed with shear 340 m/s.
+const OUTER_OVER_LAST_GAUGE: f64 = 2.0;
+/// The run ends at this multiple of the relations' arrival at the last gauge: their rise time
+/// is a tenth of the arrival, so the peak has passed even with an arrival 30 % late.
+const END_MARGIN: f64 = 1.5;
+/// From this scaled range (m/kg^{1/3}, TNT) out, a peak above the relations is the known
+/// shortfall of the compaction EOS's attenuation (Laine & Larsen 2012, see the module's
+/// comment).
+const FAR_FIELD_SCALED_RANGE: f64 = 1.0;
+/// Poisson's ratio of the sand (see the module's comment).
+const POISSON: f64 = 0.22;
+
+/// The sand's two models.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Sand {
+    DruckerPrager,
+    NoShear,
+}
+
+impl Sand {
+    fn name(self) -> &'static str {
+        match self {
+            Sand::DruckerPrager => "drucker-prager",
+            Sand::NoShear => "no-shear",
+        }
+    }
+}
+
+pub fn info() -> super::ProblemInfo {
+    super::ProblemInfo {
+        name: SPHERICAL,
+        summary: "buried TNT sphere in dry sand (1D spherical; Drucker-Prager and no-shear sand) against the TM 5-855-1 ground-shock relations",
+        params: vec![
+            ParamSpec::new("charge", 125.0, "TNT mass W (kg)"),
+            ParamSpec::new("gauges", "2,5,10,25,40", "gauge ranges from the charge's centre (m)"),
+            ParamSpec::new(
+                "soil",
+                MODELLED_SOILS[0].0,
+                "the TM 5-855-1 soil (the library material that models it is simulated)",
+            ),
+            ParamSpec::per_level(
+                "variants",
+                "drucker-prager",
+                "drucker-prager,no-shear",
+                "the sand's models: drucker-prager (gated), no-shear (reported)",
+            ),
+            ParamSpec::per_level(
+                "n",
+                "5,10",
+                "5,10,20",
+                "shells across the charge radius (one run each)",
+            ),
+            ParamSpec::new(
+                "grading",
+                0.1,
+                "far from the charge the sand's shells are grading·r/n wide",
+            ),
+            ParamSpec::new("cohesion", 0.0, "the sand's cohesion c (Pa)"),
+            ParamSpec::new("friction_angle", 30.0, "the sand's friction angle φ (degrees)"),
+            ParamSpec::new("ramp", 2.0, "burn ramp width (smoothing lengths)"),
+            ParamSpec::new("cfl", 0.3, "Courant number C"),
+            ParamSpec::new(
+                "alpha_min",
+                0.1,
+                "Morris-Monaghan switch: the viscosity's alpha away from shocks (1: off)",
+            ),
+            ParamSpec::new("eta", 2.0, "smoothing length h = η·(shell width)"),
+        ],
+    }
+}
+
+struct Settings {
+    charge_kg: f64,
+    gauges_m: Vec<f64>,
+    grading: f64,
+    ramp: f64,
+    cohesion: f64,
+    friction_angle: f64,
+    detonation_speed: f64,
+    reference_soil: &'static Soil,
+    /// The library material that models it.
+    soil_material: &'static str,
+    config: SimulationConfig,
+}
+
+fn settings(params: &Params) -> Result<Settings, VerifyError> {
+    let library = Library::standard();
+    let eta = params.number("eta", 0.5, 4.0)?;
+    let charge_kg = params.number("charge", 1e-3, 1e6)?;
+    let mut gauges_m = params.numbers("gauges", 1e-3, 1e3)?;
+    gauges_m.sort_by(f64::total_cmp);
+    let detonation_speed = library.value("tnt", "d_cj")?;
+    let radius = charge_radius(charge_kg, library.value("tnt", "rho0")?);
+    Ok(Settings {
+        charge_kg,
+        gauges_m,
+        grading: params.number("grading", 0.01, 1.0)?,
+        ramp: params.number("ramp", 0.1, 10.0)?,
+        cohesion: params.number("cohesion", 0.0, 1e9)?,
+        friction_angle: params.number("friction_angle", 0.0, 59.0)?,
+        detonation_speed,
+        reference_soil: soil(&params.text("soil"))?,
+        soil_material: soil_model(&params.text("soil"))?,
+        config: SimulationConfig {
+            formulation: Formulation::Spherical(ShellDensity::Continuity(
+                SmoothingLength::FollowDensityFloored { eta },
+            )),
+            kernel: KernelShape::CubicSpline,
+            viscosity: viscosity(params)?,
+            energy: EnergyEquation::OwnPressure,
+            cfl: params.cfl()?,
+            min_time_step: 1e-9 * radius / detonation_speed,
+        },
+    })
+}
+
+/// The soil's library material, with Drucker–Prager strength or without.
+fn sand(s: &Settings, model: Sand) -> Result<Material, VerifyError> {
+    let library = Library::standard();
+    let sand = library.material(s.soil_material)?;
+    Ok(match model {
+        Sand::NoShear => sand,
+        Sand::DruckerPrager => {
+            let rho0 = library.value(s.soil_material, "rho0")?;
+            let c0 = sand.eos.sound_speed(rho0, 0.0);
+            let bulk = rho0 * c0 * c0;
+            let shear = 3.0 * bulk * (1.0 - 2.0 * POISSON) / (2.0 * (1.0 + POISSON));
+            let strength = Strength::drucker_prager(shear, s.cohesion, s.friction_angle, 0.0)?;
+            sand.with_strength(strength)
+        }
+    })
+}
+
+/// Refuses gauges the relations do not cover (nearer than their scaled range) or that lie in
+/// the charge, naming the gauge and the allowed range.
+pub fn check_gauges(params: &Params) -> Result<(), VerifyError> {
+    let s = settings(params)?;
+    let radius = charge_radius(s.charge_kg, Library::standard().value("tnt", "rho0")?);
+    for &r in &s.gauges_m {
+        if r <= 2.0 * radius {
+            return Err(VerifyError::bad_value(
+                "gauge range (m)",
+                r,
+                &format!("beyond twice the charge radius, > {:.3} m", 2.0 * radius),
+            ));
+        }
+        reference(&s, r)?;
+    }
+    Ok(())
+}
+
+/// The speed of a small compression from rest: √((K + 4G/3)/ρ0), with K = ρ0 c0² and G the
+/// shear modulus of a solid (0 for a fluid).
+fn p_wave_speed(material: &Material, rho0: f64) -> f64 {
+    let c0 = material.eos.sound_speed(rho0, 0.0);
+    let shear = material.strength.map_or(0.0, |st| st.shear_modulus);
+    (c0 * c0 + 4.0 * shear / (3.0 * rho0)).sqrt()
+}
+
+/// The relations' peaks and arrival at `range_m`.
+fn reference(s: &Settings, range_m: f64) -> Result<GroundShock, VerifyError> {
+    ground_shock(
+        s.reference_soil,
+        explosive("tnt")?,
+        s.charge_kg,
+        range_m,
+        COUPLING,
+    )
+}
+
+struct Measured {
+    run: Run,
+    traces: Vec<GaugeTrace>,
+    snapshot: Option<Snapshot>,
+}
+
+fn run_one(
+    s: &Settings,
+    model: Sand,
+    n: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Measured, VerifyError> {
+    let library = Library::standard();
+    let (rho_tnt, e_tnt) = library.ambient_state("tnt")?;
+    let (rho_sand, e_sand) = library.ambient_state(s.soil_material)?;
+    let radius = charge_radius(s.charge_kg, rho_tnt);
+    let last_gauge = *s.gauges_m.last().expect("at least one gauge");
+    let edges = shell_edges(radius, n, s.grading, OUTER_OVER_LAST_GAUGE * last_gauge);
+    let eta = s.config.formulation.eta().unwrap_or(2.0);
+    let init: Vec<ParticleInit<1>> = edges
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            let (rho, e, material) = if k < n {
+                (rho_tnt, e_tnt, 0)
+            } else {
+                (rho_sand, e_sand, 1)
+            };
+            ParticleInit {
+                position: Vector::<1>::new(0.5 * (w[0] + w[1])),
+                velocity: Vector::<1>::zeros(),
+                mass: rho * Geometry::Spherical.volume_between(w[0], w[1]),
+                smoothing_length: eta * (w[1] - w[0]),
+                density: rho,
+                internal_energy: e,
+                material,
+            }
+        })
+        .collect();
+    let positions: Vec<Vector<1>> = init.iter().map(|p| p.position).collect();
+    let burn = ProgrammedBurn::from_points(
+        &positions,
+        |i| init[i].material == 0,
+        &[Vector::<1>::zeros()],
+        s.detonation_speed,
+        s.ramp,
+    )?;
+    let materials = vec![library.material("tnt")?, sand(s, model)?];
+    let t_end = END_MARGIN * reference(s, last_gauge)?.arrival_s;
+    let mut run = Run::new(
+        format!("{} n = {n}", model.name()),
+        "",
+        init.len(),
+        radius / n as f64,
+    );
+    let mut traces: Vec<GaugeTrace> = s
+        .gauges_m
+        .iter()
+        .map(|&r| GaugeTrace::new(format!("r = {r} m"), r))
+        .collect();
+    let start = std::time::Instant::now();
+    let mut sim = match Simulation::<1>::with_programmed_burn(
+        &init,
+        materials,
+        Domain::open(),
+        s.config,
+        burn,
+    ) {
+        Ok(sim) => sim,
+        Err(refused) => {
+            run.failure = Some(VerifyError::from_scene(refused)?);
+            return Ok(Measured {
+                run,
+                traces,
+                snapshot: None,
+            });
+        }
+    };
+    let books = Conservation::open(&sim);
+    let attached: Vec<MaterialGauge> = s
+        .gauges_m
+        .iter()
+        .map(|&r| MaterialGauge::at(&init, r))
+        .collect();
+    let read = |sim: &Simulation<1>, traces: &mut [GaugeTrace]| {
+        let index = current_index(sim);
+        for (trace, gauge) in traces.iter_mut().zip(&attached) {
+            let (stress, velocity) = gauge.read(sim, &index);
+            trace.push(sim.time(), stress, velocity);
+        }
+    };
+    read(&sim, &mut traces);
+    let mut outcome = Ok(());
+    while sim.time() < t_end {
+        outcome = sim.step_toward(t_end);
+        if outcome.is_err() {
+            break;
+        }
+        read(&sim, &mut traces);
+        progress(sim.time() / t_end);
+    }
+    run.record_work(&sim, start);
+    if let Err(e) = outcome {
+        run.failure = Some(e.to_string());
+    } else {
+        books.close(&sim, &mut run.metrics);
+    }
+    let mut peak_velocities = Vec::new();
+    for trace in &traces {
+        let gauge = trace.summary();
+        let relation = reference(s, trace.position_m)?;
+        let r = trace.position_m;
+        for (q, value, reference) in [
+            (
+                "peak_stress",
+                gauge.peak_pressure_pa,
+                relation.peak_stress_pa,
+            ),
+            (
+                "peak_velocity",
+                gauge.peak_velocity_m_s,
+                relation.peak_velocity_m_s,
+            ),
+            ("arrival", gauge.arrival_s, relation.arrival_s),
+        ] {
+            run.errors
+                .insert(format!("{q}_error_r{r}"), relative_error(value, reference));
+            run.metrics
+                .insert(format!("{q}_over_relations_r{r}"), value / reference);
+        }
+        peak_velocities.push((r, gauge.peak_velocity_m_s));
+        run.gauges.push(gauge);
+    }
+    let arrivals: Vec<(f64, f64)> = run
+        .gauges
+        .iter()
+        .map(|g| (g.position_m, g.arrival_s))
+        .collect();
+    if let [.., (r0, t0), (r1, t1)] = arrivals.as_slice() {
+        run.metrics
+            .insert("front_speed_far_m_s".into(), (r1 - r0) / (t1 - t0));
+    }
+    run.metrics.insert(
+        "p_wave_speed_m_s".into(),
+        p_wave_speed(&sand(s, model)?, rho_sand),
+    );
+    run.metrics.insert(
+        "attenuation_exponent_fitted".into(),
+        attenuation_exponent(&peak_velocities[1..]),
+    );
+    run.metrics.insert(
+        "attenuation_exponent_relations".into(),
+        s.reference_soil.attenuation,
+    );
+    run.metrics.insert("charge_radius_m".into(), radius);
+    run.metrics.insert("t_end_s".into(), t_end);
+    Ok(Measured {
+        run,
+        traces,
+        snapshot: Some(Snapshot::of(&sim)),
+    })
+}
+
+/// A gauge buried in the sand: it moves with the sand at its range, as a gauge placed in the
+/// ground does. It reads the two shells that straddled its range at the start, weighted by
+/// where it lay between their centres.
+struct MaterialGauge {
+    shells: (usize, usize),
+    weight: f64,
+}
+
+impl MaterialGauge {
+    fn at(init: &[ParticleInit<1>], range_m: f64) -> Self {
+        let last = init.len() - 1;
+        let outer = init
+            .iter()
+            .position(|q| q.position[0] >= range_m)
+            .unwrap_or(last)
+            .max(1);
+        let (a, b) = (init[outer - 1].position[0], init[outer].position[0]);
+        Self {
+            shells: (outer - 1, outer),
+            weight: ((range_m - a) / (b - a)).clamp(0.0, 1.0),
+        }
+    }
+
+    /// The compressive radial stress −σ_rr = p − s_rr and the radial velocity.
+    fn read(&self, sim: &Simulation<1>, index: &[usize]) -> (f64, f64) {
+        let p = sim.particles();
+        let stress = |i: usize| match p.deviatoric_stress.get(i) {
+            Some(s) => p.pressure[i] - s[(0, 0)],
+            None => p.pressure[i],
+        };
+        let (i, j) = (index[self.shells.0], index[self.shells.1]);
+        let w = self.weight;
+        (
+            (1.0 - w) * stress(i) + w * stress(j),
+            (1.0 - w) * p.velocity[i][0] + w * p.velocity[j][0],
+        )
+    }
+}
+
+/// Where each shell, by its index at creation, is stored now.
+fn current_index(sim: &Simulation<1>) -> Vec<usize> {
+    let p = sim.particles();
+    let mut index = vec![0; p.n_real()];
+    for i in 0..p.n_real() {
+        index[p.id[i] as usize] = i;
+    }
+    index
+}
+
+/// The exponent n of u ∝ r^(−n) fitted by least squares to (r, u) in logs (NaN with fewer
+/// than two points or a non-positive value).
+fn attenuation_exponent(points: &[(f64, f64)]) -> f64 {
+    if points.len() < 2 || points.iter().any(|&(r, u)| r <= 0.0 || u.is_nan() || u <= 0.0) {
+        return f64::NAN;
+    }
+    let logs: Vec<(f64, f64)> = points.iter().map(|&(r, u)| (r.ln(), u.ln())).collect();
+    let k = logs.len() as f64;
+    let (mx, my) = logs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), &(x, y)| (a + x / k, b + y / k));
+    let (sxy, sxx) = logs.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
+        (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
+    });
+    -sxy / sxx
+}
+
+pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOutput, VerifyError> {
+    let s = settings(params)?;
+    let variants = params.choices(
+        "variants",
+        &[Sand::DruckerPrager, Sand::NoShear],
+        Sand::name,
+    )?;
+    let resolutions = params.integers("n", 4, 10_000)?;
+    let parts = (variants.len() * resolutions.len()) as f64;
+    let mut measured: Vec<(Sand, usize, Measured)> = Vec::new();
+    for &model in &variants {
+        for &n in &resolutions {
+            let done = measured.len() as f64;
+            let m = run_one(&s, model, n, &|f| progress((done + f) / parts))?;
+            measured.push((model, n, m));
+        }
+    }
+    let n_fine = *resolutions.iter().max().expect("at least one resolution");
+    let mut checks: Vec<Check> = measured
+        .iter()
+        .flat_map(|(_, _, m)| health_checks(&m.run))
+        .collect();
+    let gated = measured
+        .iter()
+        .position(|(model, n, _)| *model == Sand::DruckerPrager && *n == n_fine);
+    if let Some(k) = gated {
+        let run = &measured[k].2.run;
+        let metric = |key: String| run.metrics.get(&key).copied().unwrap_or(f64::NAN);
+        // the same ratio in every drucker-prager run, coarsest first, and whether it rises
+        // with every refinement
+        let trend = |key: String| -> (String, bool) {
+            let mut rows: Vec<(usize, f64)> = measured
+                .iter()
+                .filter(|(model, _, _)| *model == Sand::DruckerPrager)
+                .map(|(_, n, m)| (*n, m.run.metrics.get(&key).copied().unwrap_or(f64::NAN)))
+                .collect();
+            rows.sort_by_key(|row| row.0);
+            let text = rows
+                .iter()
+                .map(|(n, v)| format!("{v:.2} at n = {n}"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let rising = rows.len() >= 2 && rows.windows(2).all(|w| w[1].1 > w[0].1);
+            (text, rising)
+        };
+        let exponents: Vec<String> = measured
+            .iter()
+            .filter(|(_, n, _)| *n == n_fine)
+            .map(|(model, _, m)| {
+                format!(
+                    "{:.2} ({})",
+                    m.run.metrics["attenuation_exponent_fitted"],
+                    model.name()
+                )
+            })
+            .collect();
+        let scale = s.charge_kg.cbrt();
+        for &r in &s.gauges_m {
+            let ratio = metric(format!("arrival_over_relations_r{r}"));
+            let check = Check::at_most(
+                format!("arrival_error_r{r}_n_{n_fine}"),
+                (ratio - 1.0).abs(),
+                ARRIVAL_LIMIT,
+            );
+            checks.push(if !check.pass && ratio < 1.0 {
+                check.known_limit(format!(
+                    "arrival/relations {}: the relations' arrival is r/c with the seismic \
+                     c = {} m/s; the model sand carries its front at {:.0} m/s between the last \
+                     two gauges, near its P-wave speed √((K + 4G/3)/ρ0) = {:.0} m/s, and faster \
+                     near the charge, where its Hugoniot (Laine & Sandvik 2001 Table 1) runs \
+                     shocks at up to 1020 m/s",
+                    trend(format!("arrival_over_relations_r{r}")).0,
+                    s.reference_soil.wave_speed_m_s,
+                    metric("front_speed_far_m_s".into()),
+                    metric("p_wave_speed_m_s".into()),
+                ))
+            } else {
+                check
+            });
+            for q in ["peak_stress", "peak_velocity"] {
+                let key = format!("{q}_over_relations_r{r}");
+                let ratio = metric(key.clone());
+                let check = Check::at_most(
+                    format!("{q}_factor_from_relations_r{r}_n_{n_fine}"),
+                    ratio.max(1.0 / ratio),
+                    PEAK_FACTOR_LIMIT,
+                );
+                let far = r / scale >= FAR_FIELD_SCALED_RANGE;
+                checks.push(if !check.pass && ratio > 1.0 && far {
+                    let (ratios, rising) = trend(key);
+                    check.known_limit(format!(
+                        "{q}/relations {ratios}{}: the model attenuates too little, fitted \
+                         exponent {} against the relations' {}; the compaction EOS unloads at \
+                         nearly its loading slope at low stress, so the far field loses little \
+                         to hysteresis, as Laine & Larsen (2012) found for this EOS beyond about \
+                         1 m/kg^(1/3) (their pressure-dependent unloading, which the library \
+                         lacks, lowered the peak by 65–74 % at 5–8 m/kg^(1/3))",
+                        if rising {
+                            " (rising as the shells refine)"
+                        } else {
+                            ""
+                        },
+                        exponents.join(", "),
+                        s.reference_soil.attenuation,
+                    ))
+                } else {
+                    check
+                });
+            }
+        }
+    }
+    let headline = gated.unwrap_or(measured.len() - 1);
+    let runs: Vec<Run> = measured.iter().map(|(_, _, m)| m.run.clone()).collect();
+    let (profile, figure) = outputs(&s, &measured, n_fine)?;
+    Ok(ProblemOutput {
+        record: Record::new(
+            SPHERICAL,
+            Level::Quick,
+            runs,
+            Default::default(),
+            checks,
+            headline,
+        ),
+        profile,
+        figure,
+        snapshot: measured[headline].2.snapshot.clone(),
+    })
+}
+
+/// The finest runs' gauge histories (stress per gauge and variant), and a figure per gauge
+/// with both variants beside the relations' arrival and peak stress.
+fn outputs(
+    s: &Settings,
+    measured: &[(Sand, usize, Measured)],
+    n_fine: usize,
+) -> Result<(Table, Figure), VerifyError> {
+    let finest: Vec<&(Sand, usize, Measured)> =
+        measured.iter().filter(|(_, n, _)| *n == n_fine).collect();
+    let mut tables = Vec::new();
+    for (model, _, m) in &finest {
+        let mut columns = vec!["t".to_string()];
+        for r in &s.gauges_m {
+            let variant = model.name().replace('-', "_");
+            columns.push(format!("stress_{variant}_r{r}"));
+            columns.push(format!("velocity_{variant}_r{r}"));
+        }
+        let names: Vec<&str> = columns.iter().map(String::as_str).collect();
+        let mut table = Table::new(&names);
+        if let Some(first) = m.traces.first() {
+            for (k, &t) in first.time.iter().enumerate() {
+                let mut row = vec![t];
+                for trace in &m.traces {
+                    row.push(trace.overpressure[k]);
+                    row.push(trace.velocity[k]);
+                }
+                table.rows.push(row);
+            }
+        }
+        tables.push(table);
+    }
+    let profile = tables
+        .into_iter()
+        .next()
+        .unwrap_or_else(|| Table::new(&["t"]));
+    let mut panels = Vec::new();
+    for (k, &r) in s.gauges_m.iter().enumerate() {
+        let relation = reference(s, r)?;
+        let mut series: Vec<Series> = finest
+            .iter()
+            .enumerate()
+            .map(|(j, (model, _, m))| Series {
+                label: model.name().into(),
+                points: m.traces[k]
+                    .time
+                    .iter()
+                    .zip(&m.traces[k].overpressure)
+                    .map(|(&t, &p)| (1e3 * t, 1e-3 * p))
+                    .collect(),
+                style: if j == 0 { Style::Line } else { Style::Markers },
+            })
+            .collect();
+        series.push(Series {
+            label: "TM 5-855-1 arrival, peak".into(),
+            points: vec![(1e3 * relation.arrival_s, 1e-3 * relation.peak_stress_pa)],
+            style: Style::Markers,
+        });
+        panels.push(Panel {
+            title: format!("r = {r} m"),
+            x_label: "t (ms)".into(),
+            y_label: "radial stress (kPa)".into(),
+            series,
+        });
+    }
+    let figure = Figure {
+        title: format!(
+            "{SPHERICAL}: {} kg TNT buried in dry sand, n = {n_fine}",
+            s.charge_kg
+        ),
+        panels,
+    };
+    Ok((profile, figure))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fitted_exponent_of_a_power_law_is_its_own() {
+        let points: Vec<(f64, f64)> = [5.0, 10.0, 25.0, 40.0]
+            .iter()
+            .map(|&r: &f64| (r, 3.0 * r.powf(-2.75)))
+            .collect();
+        assert!((attenuation_exponent(&points) - 2.75).abs() < 1e-12);
+        assert!(attenuation_exponent(&points[..1]).is_nan());
+    }
+}
