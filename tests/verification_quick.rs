@@ -403,3 +403,19 @@ fn ground_shock_spherical_passes_its_quick_checks() {
         }
     }
 }
+
+/// A plane pulse through transmitting sides, in the ground-shock sand (with and without its
+/// strength) and in an elastic solid: each side sends back at most 10 % of it, while rigid
+/// walls in its place send back most of it (limits justified in the problem file).
+#[test]
+fn transmitting_boundary_sends_back_little() {
+    let output = run("transmitting-boundary", &[]);
+    assert_all_checks_pass(&output);
+    let reflections = output
+        .record
+        .checks
+        .iter()
+        .filter(|c| c.name.starts_with("reflection_coefficient"))
+        .count();
+    assert_eq!(reflections, 12);
+}

@@ -14,6 +14,20 @@ pub enum Boundary {
     Wall,
     /// Images shifted by ±(hi_a − lo_a); particles leaving one side re-enter at the other.
     Periodic,
+    /// A side through which waves leave: no images, and the particles of the outermost layer
+    /// (within their own spacing Δ of the plane) feel the traction of Lysmer & Kuhlemeyer's
+    /// (1969) viscous boundary, −ρ c_P v_n normally and −ρ c_S v_t tangentially per unit area:
+    /// the traction the material beyond would exert on a plane wave leaving through it. For a
+    /// particle of volume V = A Δ this is the acceleration −(c_P v_n + c_S v_t)/Δ. The work it
+    /// takes out is booked as the energy transmitted, its impulse with the walls'.
+    Transmitting,
+}
+
+/// Which side of an axis a boundary is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Lower,
+    Upper,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -151,6 +165,20 @@ impl<const D: usize> Domain<D> {
             }
         }
         impulse
+    }
+
+    /// The transmitting sides: (axis, side, the plane's coordinate, the outward normal's sign).
+    pub fn transmitting_sides(&self) -> Vec<(usize, Side, f64, f64)> {
+        let mut sides = Vec::new();
+        for a in 0..D {
+            if self.lower[a] == Boundary::Transmitting {
+                sides.push((a, Side::Lower, self.lo[a], -1.0));
+            }
+            if self.upper[a] == Boundary::Transmitting {
+                sides.push((a, Side::Upper, self.hi[a], 1.0));
+            }
+        }
+        sides
     }
 
     /// The axis of a wall that `x` has passed through, if any.

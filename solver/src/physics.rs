@@ -739,6 +739,8 @@ pub struct RateTotals<const D: usize> {
     /// Σ_i m_i × the heat returned for the hourglass control's work (W; total-Lagrangian
     /// solids, see [`crate::total_lagrangian`]).
     pub hourglass_heating: f64,
+    /// The power leaving through transmitting boundaries (W, never negative).
+    pub transmitted_power: f64,
 }
 
 impl<const D: usize> Default for RateTotals<D> {
@@ -748,6 +750,7 @@ impl<const D: usize> Default for RateTotals<D> {
             viscous_heating: 0.0,
             artificial_stress_heating: 0.0,
             hourglass_heating: 0.0,
+            transmitted_power: 0.0,
         }
     }
 }

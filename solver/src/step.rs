@@ -167,6 +167,8 @@ pub struct Simulation<const D: usize> {
     totals: RateTotals<D>,
     wall_impulse: Vector<D>,
     heating: ArtificialHeating,
+    /// The energy that left through transmitting boundaries since the start (J).
+    transmitted_energy: f64,
     times: PhaseTimes,
     /// Neighbour searches repeated because a grad-h root lay beyond the first search's reach.
     repeated_searches: u64,
@@ -300,6 +302,7 @@ impl<const D: usize> Simulation<D> {
             steps: 0,
             totals: RateTotals::default(),
             wall_impulse: Vector::zeros(),
+            transmitted_energy: 0.0,
             heating: ArtificialHeating::default(),
             times: PhaseTimes::default(),
             repeated_searches: 0,
@@ -341,6 +344,11 @@ impl<const D: usize> Simulation<D> {
     /// ∫ F_wall dt: the momentum the walls have delivered so far.
     pub fn wall_impulse(&self) -> Vector<D> {
         self.wall_impulse
+    }
+
+    /// The energy that has left through transmitting boundaries (J).
+    pub fn transmitted_energy(&self) -> f64 {
+        self.transmitted_energy
     }
 
     /// Advances to `t_end`, calling `progress(t)` after each step.
@@ -396,6 +404,8 @@ impl<const D: usize> Simulation<D> {
         self.heating.artificial_stress +=
             (before.artificial_stress_heating + after.artificial_stress_heating) * (0.5 * dt);
         self.heating.hourglass += (before.hourglass_heating + after.hourglass_heating) * (0.5 * dt);
+        self.transmitted_energy +=
+            (before.transmitted_power + after.transmitted_power) * (0.5 * dt);
         self.time += dt;
         self.steps += 1;
         let health = self.check_health();
@@ -576,6 +586,7 @@ impl<const D: usize> Simulation<D> {
             self.times.forces += start.elapsed().as_secs_f64();
             self.totals =
                 totals.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))?;
+            self.apply_transmitting_boundaries();
             return Ok(());
         }
         let start = Instant::now();
@@ -601,6 +612,7 @@ impl<const D: usize> Simulation<D> {
                 );
             }
             let shear_modulus = shear_moduli(&self.materials);
+            self.totals = RateTotals::default();
             radial::radial_rates(
                 &mut self.particles,
                 &self.neighbours,
@@ -612,8 +624,46 @@ impl<const D: usize> Simulation<D> {
         } else {
             self.evaluate_pair_rates(time);
         }
+        self.apply_transmitting_boundaries();
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// Lysmer & Kuhlemeyer's viscous traction on the outermost layer at each transmitting side
+    /// (see [`Boundary::Transmitting`]): a = −(c_P v_n + c_S v_t)/Δ for the particles within
+    /// their spacing Δ of the plane. Its force joins the walls' force and its power the
+    /// transmitted power, so that momentum and energy stay accounted for.
+    fn apply_transmitting_boundaries(&mut self) {
+        let sides = self.domain.transmitting_sides();
+        if sides.is_empty() {
+            return;
+        }
+        let shear_modulus = shear_moduli(&self.materials);
+        let formulation = self.config.formulation;
+        let p = &mut self.particles;
+        for i in 0..p.n_real() {
+            let spacing =
+                particle_spacing(formulation, D, p.mass[i] / p.density[i], p.position[i][0]);
+            let shear_speed = (shear_modulus[p.material_of(i)] / p.density[i]).sqrt();
+            for &(a, _, plane, outward) in &sides {
+                if outward * (plane - p.position[i][a]) >= spacing {
+                    continue;
+                }
+                let v = p.velocity[i];
+                let mut acceleration = Vector::<D>::zeros();
+                for b in 0..D {
+                    let speed = if b == a {
+                        p.sound_speed[i]
+                    } else {
+                        shear_speed
+                    };
+                    acceleration[b] = -speed * v[b] / spacing;
+                }
+                p.acceleration[i] += acceleration;
+                self.totals.wall_force += acceleration * p.mass[i];
+                self.totals.transmitted_power -= p.mass[i] * acceleration.dot(&v);
+            }
+        }
     }
 
     /// Each particle's h for this state (fixed, from its density, or solved with it), then the
@@ -629,20 +679,10 @@ impl<const D: usize> Simulation<D> {
                 | SmoothingLength::FollowDensityFloored { eta },
             ) => {
                 let p = &mut self.particles;
-                let geometry = formulation.geometry();
-                let axisymmetric = formulation.is_axisymmetric();
                 for i in 0..p.n_real() {
                     let volume = p.mass[i] / p.density[i];
-                    let r = p.position[i][0];
-                    p.smoothing_length[i] = eta
-                        * if axisymmetric {
-                            // the ring's cross-section in the (r, z) plane
-                            (volume / (2.0 * PI * r)).sqrt()
-                        } else if geometry == Geometry::Planar {
-                            volume.powf(1.0 / D as f64)
-                        } else {
-                            geometry.shell_width(r, volume)
-                        };
+                    p.smoothing_length[i] =
+                        eta * particle_spacing(formulation, D, volume, p.position[i][0]);
                 }
                 for (h, floor) in p.smoothing_length.iter_mut().zip(&p.smoothing_floor) {
                     *h = h.max(*floor);
@@ -918,11 +958,13 @@ fn validate_radial_scene<const D: usize>(
             "r ≥ 0 in a radial geometry",
         ));
     }
-    if domain.lower[0] != Boundary::Open || domain.upper[0] != Boundary::Open {
+    let outer_allowed = matches!(domain.upper[0], Boundary::Open | Boundary::Transmitting);
+    if domain.lower[0] != Boundary::Open || !outer_allowed {
         return Err(SolverError::invalid(
             "boundary",
             format!("{:?}/{:?}", domain.lower[0], domain.upper[0]),
-            "open in a radial geometry (the origin reflects by symmetry)",
+            "open at the origin (it reflects by symmetry), open or transmitting outside, in a \
+             radial geometry",
         ));
     }
     Ok(())
@@ -1009,6 +1051,18 @@ fn validate_particles<const D: usize>(
 }
 
 /// Each material's shear modulus G (0 for a fluid).
+/// A particle's spacing from its volume: the side of its cell in D dimensions, the width of a
+/// ring's or shell's cross-section in r, the side of a ring's square cross-section in (r, z).
+fn particle_spacing(formulation: Formulation, dimension: usize, volume: f64, r: f64) -> f64 {
+    if formulation.is_axisymmetric() {
+        (volume / (2.0 * PI * r)).sqrt()
+    } else if formulation.geometry() == Geometry::Planar {
+        volume.powf(1.0 / dimension as f64)
+    } else {
+        formulation.geometry().shell_width(r, volume)
+    }
+}
+
 fn shear_moduli(materials: &[Material]) -> Vec<f64> {
     materials
         .iter()

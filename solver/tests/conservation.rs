@@ -117,6 +117,24 @@ fn wall_box_momentum_change_equals_wall_impulse() {
     assert!(sim.wall_impulse().norm() > 1e3 * bound);
 }
 
+/// Through transmitting sides, the momentum change equals the impulse of their tractions (booked
+/// with the walls') to round-off, and the energy that left is booked: what stays plus what left
+/// is the energy at the start, to the time integration's error. Both are far from zero, so the
+/// balances are real tests.
+#[test]
+fn transmitting_sides_book_the_momentum_and_energy_that_leave() {
+    let mut sim = gas_box::<2>(24, Boundary::Transmitting, SimulationConfig::default());
+    let e0 = sim.particles().total_energy();
+    let (residual, bound, _) = balances(&mut sim, 40);
+    assert!(residual <= bound, "{residual:e} > {bound:e}");
+    assert!(sim.wall_impulse().norm() > 1e3 * bound);
+    let left = sim.transmitted_energy();
+    let balance = (sim.particles().total_energy() + left - e0).abs() / e0;
+    assert!(left > 1e-3 * e0, "{left:e}");
+    // the leapfrog's drift over 40 steps of this box is below 1e-4 (the test below)
+    assert!(balance < 1e-4, "{balance:e}");
+}
+
 /// Total energy is conserved up to the time-integration error, which is second order: halving
 /// Δt cuts the drift by about four (at least by two, leaving room for the viscous terms).
 #[test]

@@ -203,7 +203,7 @@ impl<const D: usize> Conservation<D> {
         Self {
             momentum: p.total_momentum() - sim.wall_impulse(),
             momentum_scale,
-            energy: p.total_energy(),
+            energy: p.total_energy() + sim.transmitted_energy(),
         }
     }
 
@@ -214,7 +214,7 @@ impl<const D: usize> Conservation<D> {
         let p = sim.particles();
         metrics.insert(
             "energy_relative_change".into(),
-            ((p.total_energy() - self.energy) / self.energy).abs(),
+            ((p.total_energy() + sim.transmitted_energy() - self.energy) / self.energy).abs(),
         );
         metrics.insert(
             "momentum_balance_residual".into(),

@@ -204,19 +204,30 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
 
 /// The soil's library material, with Drucker–Prager strength or without.
 fn sand(s: &Settings, model: Sand) -> Result<Material, VerifyError> {
+    soil_material(
+        s.soil_material,
+        (model == Sand::DruckerPrager).then_some((s.cohesion, s.friction_angle)),
+    )
+}
+
+/// The library material `name`, as a fluid or, given its cohesion c (Pa) and friction angle φ
+/// (degrees), with Drucker–Prager strength whose shear modulus comes from the unloaded bulk
+/// modulus and Poisson's ratio [`POISSON`]: G = 3K(1 − 2ν)/(2(1 + ν)), K = ρ0 c(ρ0)².
+pub(super) fn soil_material(
+    name: &str,
+    drucker_prager: Option<(f64, f64)>,
+) -> Result<Material, VerifyError> {
     let library = Library::standard();
-    let sand = library.material(s.soil_material)?;
-    Ok(match model {
-        Sand::NoShear => sand,
-        Sand::DruckerPrager => {
-            let rho0 = library.value(s.soil_material, "rho0")?;
-            let c0 = sand.eos.sound_speed(rho0, 0.0);
-            let bulk = rho0 * c0 * c0;
-            let shear = 3.0 * bulk * (1.0 - 2.0 * POISSON) / (2.0 * (1.0 + POISSON));
-            let strength = Strength::drucker_prager(shear, s.cohesion, s.friction_angle, 0.0)?;
-            sand.with_strength(strength)
-        }
-    })
+    let soil = library.material(name)?;
+    let Some((cohesion, friction_angle)) = drucker_prager else {
+        return Ok(soil);
+    };
+    let rho0 = library.value(name, "rho0")?;
+    let c0 = soil.eos.sound_speed(rho0, 0.0);
+    let bulk = rho0 * c0 * c0;
+    let shear = 3.0 * bulk * (1.0 - 2.0 * POISSON) / (2.0 * (1.0 + POISSON));
+    let strength = Strength::drucker_prager(shear, cohesion, friction_angle, 0.0)?;
+    Ok(soil.with_strength(strength))
 }
 
 /// Refuses gauges the relations do not cover (nearer than their scaled range) or that lie in
@@ -239,7 +250,7 @@ pub fn check_gauges(params: &Params) -> Result<(), VerifyError> {
 
 /// The speed of a small compression from rest: √((K + 4G/3)/ρ0), with K = ρ0 c0² and G the
 /// shear modulus of a solid (0 for a fluid).
-fn p_wave_speed(material: &Material, rho0: f64) -> f64 {
+pub(super) fn p_wave_speed(material: &Material, rho0: f64) -> f64 {
     let c0 = material.eos.sound_speed(rho0, 0.0);
     let shear = material.strength.map_or(0.0, |st| st.shear_modulus);
     (c0 * c0 + 4.0 * shear / (3.0 * rho0)).sqrt()
@@ -471,7 +482,11 @@ fn current_index(sim: &Simulation<1>) -> Vec<usize> {
 /// The exponent n of u ∝ r^(−n) fitted by least squares to (r, u) in logs (NaN with fewer
 /// than two points or a non-positive value).
 fn attenuation_exponent(points: &[(f64, f64)]) -> f64 {
-    if points.len() < 2 || points.iter().any(|&(r, u)| r <= 0.0 || u.is_nan() || u <= 0.0) {
+    if points.len() < 2
+        || points
+            .iter()
+            .any(|&(r, u)| r <= 0.0 || u.is_nan() || u <= 0.0)
+    {
         return f64::NAN;
     }
     let logs: Vec<(f64, f64)> = points.iter().map(|&(r, u)| (r.ln(), u.ln())).collect();

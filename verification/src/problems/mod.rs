@@ -15,6 +15,7 @@ mod shock_tube;
 mod taylor_bar;
 mod thesis_arrivals;
 mod tnt_slab;
+mod transmitting_boundary;
 
 pub use biaxial::biaxial_run;
 
@@ -46,6 +47,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(thesis_arrivals::info());
     list.extend(airblast::infos());
     list.push(ground_shock::info());
+    list.push(transmitting_boundary::info());
     list
 }
 
@@ -120,6 +122,8 @@ fn run_here(
         elastic_wave::run(&params, progress)?
     } else if airblast::NAMES.contains(&name) {
         airblast::run(name, &params, progress)?
+    } else if name == transmitting_boundary::NAME {
+        transmitting_boundary::run(&params, progress)?
     } else if name == ground_shock::SPHERICAL {
         ground_shock::run(&params, progress)?
     } else if name == tnt_slab::NAME {
