@@ -14,12 +14,13 @@ pub enum Boundary {
     Wall,
     /// Images shifted by ±(hi_a − lo_a); particles leaving one side re-enter at the other.
     Periodic,
-    /// A side through which waves leave: no images, and the particles of the outermost layer
-    /// (within their own spacing Δ of the plane) feel the traction of Lysmer & Kuhlemeyer's
-    /// (1969) viscous boundary, −ρ c_P v_n normally and −ρ c_S v_t tangentially per unit area:
-    /// the traction the material beyond would exert on a plane wave leaving through it. For a
-    /// particle of volume V = A Δ this is the acceleration −(c_P v_n + c_S v_t)/Δ. The work it
-    /// takes out is booked as the energy transmitted, its impulse with the walls'.
+    /// A side through which waves leave (Cartesian scenes): no images, and the particles
+    /// within a kernel support of the plane feel the traction of Lysmer & Kuhlemeyer's (1969)
+    /// viscous boundary, −ρ c_P v_n normally and −ρ c_S v_t tangentially per unit area: the
+    /// traction the material beyond would exert on a plane wave leaving through it. It is
+    /// shared among them with the weights by which SPH's pressure terms share a free side's
+    /// traction (see `Simulation`'s step), so that the two cancel for an outgoing wave. The
+    /// work it takes out is booked as the energy transmitted, its impulse with the walls'.
     Transmitting,
 }
 

@@ -357,6 +357,50 @@ impl<const D: usize> PairEquation<D> for SummationDensity<'_, D> {
     }
 }
 
+/// g_i = Σ_j V_j ∇_i W_ij, the kernel's gradient summed over the partners: zero inside a
+/// material, and where the partners end at a free side the share of that side's traction each
+/// particle takes in the pressure terms (∫ of its normal component over the side's particles
+/// is ½ per unit area).
+pub(crate) struct KernelGradientSum<'a, const D: usize> {
+    pub kernel: &'a Kernel<D>,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct VolumeSource<const D: usize> {
+    position: Vector<D>,
+    smoothing_length: f64,
+    volume: f64,
+}
+
+impl<const D: usize> PairEquation<D> for KernelGradientSum<'_, D> {
+    type Source = VolumeSource<D>;
+    type Sum = Vector<D>;
+    type Output = Vector<D>;
+
+    fn source(&self, p: &Particles<D>, k: usize) -> VolumeSource<D> {
+        VolumeSource {
+            position: p.position[k],
+            smoothing_length: p.smoothing_length[k],
+            volume: p.mass[k] / p.density[k],
+        }
+    }
+
+    fn start(&self, _: &VolumeSource<D>) -> Vector<D> {
+        Vector::zeros()
+    }
+
+    #[inline]
+    fn pair(&self, g: &mut Vector<D>, me: &VolumeSource<D>, other: &VolumeSource<D>, _: &()) {
+        let dx = me.position - other.position;
+        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
+        *g += self.kernel.gradient(&dx, dx.norm(), h) * other.volume;
+    }
+
+    fn finish(&self, _: &VolumeSource<D>, g: Vector<D>) -> Vector<D> {
+        g
+    }
+}
+
 /// The outcome of solving one particle's h together with its density.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SmoothingSolution {

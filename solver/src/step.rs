@@ -255,6 +255,17 @@ impl<const D: usize> Simulation<D> {
         if formulation.is_axisymmetric() {
             validate_axisymmetric_scene(init, &domain)?;
         }
+        let planar_sums = formulation.geometry() == Geometry::Planar
+            && !formulation.is_axisymmetric()
+            && !formulation.is_total_lagrangian();
+        if !domain.transmitting_sides().is_empty() && !planar_sums {
+            return Err(SolverError::invalid(
+                "boundary",
+                "transmitting",
+                "in Cartesian scenes (its traction is weighted by the Cartesian kernel sums; \
+                 radial, axisymmetric and total-Lagrangian scenes have sums of their own)",
+            ));
+        }
         let total_lagrangian = formulation.is_total_lagrangian();
         if total_lagrangian {
             if let Some(fluid) = materials.iter().find(|m| m.strength.is_none()) {
@@ -586,7 +597,6 @@ impl<const D: usize> Simulation<D> {
             self.times.forces += start.elapsed().as_secs_f64();
             self.totals =
                 totals.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))?;
-            self.apply_transmitting_boundaries();
             return Ok(());
         }
         let start = Instant::now();
@@ -629,9 +639,12 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
-    /// Lysmer & Kuhlemeyer's viscous traction on the outermost layer at each transmitting side
-    /// (see [`Boundary::Transmitting`]): a = −(c_P v_n + c_S v_t)/Δ for the particles within
-    /// their spacing Δ of the plane. Its force joins the walls' force and its power the
+    /// Lysmer & Kuhlemeyer's viscous traction at each transmitting side (see
+    /// [`Boundary::Transmitting`]), spread over the particles near it as SPH spreads a free
+    /// side's pressure: a_i = −w_i (c_P v_n n + c_S v_t) with w_i = max(0, −2 g_i·n) and
+    /// g_i = Σ_j V_j ∇_i W_ij, which is zero inside the material and, at a free side, the
+    /// weight with which the pressure terms (p_i + p_j) give each particle its share of the
+    /// side's traction (Σ_i V_i w_i = A). Its force joins the walls' force and its power the
     /// transmitted power, so that momentum and energy stay accounted for.
     fn apply_transmitting_boundaries(&mut self) {
         let sides = self.domain.transmitting_sides();
@@ -639,16 +652,24 @@ impl<const D: usize> Simulation<D> {
             return;
         }
         let shear_modulus = shear_moduli(&self.materials);
-        let formulation = self.config.formulation;
+        let equation = physics::KernelGradientSum {
+            kernel: &self.kernel,
+        };
+        let sources = pairs::sources(&equation, &self.particles);
         let p = &mut self.particles;
         for i in 0..p.n_real() {
-            let spacing =
-                particle_spacing(formulation, D, p.mass[i] / p.density[i], p.position[i][0]);
+            let reach = self.kernel.support_radius(p.smoothing_length[i]);
+            let near: Vec<_> = sides
+                .iter()
+                .filter(|&&(a, _, plane, outward)| outward * (plane - p.position[i][a]) < reach)
+                .collect();
+            if near.is_empty() {
+                continue;
+            }
+            let g = pairs::sum_at(&equation, &sources, &self.neighbours, i);
             let shear_speed = (shear_modulus[p.material_of(i)] / p.density[i]).sqrt();
-            for &(a, _, plane, outward) in &sides {
-                if outward * (plane - p.position[i][a]) >= spacing {
-                    continue;
-                }
+            for &&(a, _, _, outward) in &near {
+                let weight = (-2.0 * outward * g[a]).max(0.0);
                 let v = p.velocity[i];
                 let mut acceleration = Vector::<D>::zeros();
                 for b in 0..D {
@@ -657,7 +678,7 @@ impl<const D: usize> Simulation<D> {
                     } else {
                         shear_speed
                     };
-                    acceleration[b] = -speed * v[b] / spacing;
+                    acceleration[b] = -speed * v[b] * weight;
                 }
                 p.acceleration[i] += acceleration;
                 self.totals.wall_force += acceleration * p.mass[i];
@@ -958,13 +979,11 @@ fn validate_radial_scene<const D: usize>(
             "r ≥ 0 in a radial geometry",
         ));
     }
-    let outer_allowed = matches!(domain.upper[0], Boundary::Open | Boundary::Transmitting);
-    if domain.lower[0] != Boundary::Open || !outer_allowed {
+    if domain.lower[0] != Boundary::Open || domain.upper[0] != Boundary::Open {
         return Err(SolverError::invalid(
             "boundary",
             format!("{:?}/{:?}", domain.lower[0], domain.upper[0]),
-            "open at the origin (it reflects by symmetry), open or transmitting outside, in a \
-             radial geometry",
+            "open in a radial geometry (the origin reflects by symmetry)",
         ));
     }
     Ok(())

@@ -179,6 +179,16 @@ fn radial_scenes_reject_what_they_cannot_represent() {
     );
     let err = Simulation::new(&[shell(0.5)], gas(), walled, radial).unwrap_err();
     assert!(err.to_string().contains("boundary"), "{err}");
+    // no transmitting side: its weights are Cartesian kernel sums
+    let transmitting = Domain::with_sides(
+        Vector::<1>::new(0.0),
+        Vector::<1>::new(1.0),
+        [Boundary::Open],
+        [Boundary::Transmitting],
+    )
+    .unwrap();
+    let err = Simulation::new(&[shell(0.5)], gas(), transmitting, radial).unwrap_err();
+    assert!(err.to_string().contains("Transmitting"), "{err}");
     // solids: in spheres, clear of the origin; not in cylinders
     let solid = || {
         let eos = blastsph_solver::MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY);
