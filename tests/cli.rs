@@ -687,6 +687,38 @@ fn scaled_refuses_bad_input_by_name() {
     }
 }
 
+/// `gate` refuses bad input before running anything: exit 2 naming the value and what is
+/// allowed.
+#[test]
+fn gate_refuses_bad_input_by_name() {
+    for (args, named) in [
+        (
+            vec!["--charge", "-5", "--soil", "dry-sand-backfill"],
+            "charge",
+        ),
+        (vec!["--charge", "500", "--soil", "peat"], "dense-sand"),
+        (
+            vec!["--charge", "500", "--soil", "saturated-clay"],
+            "material model: dry-sand-backfill",
+        ),
+        (
+            vec![
+                "--charge",
+                "500",
+                "--soil",
+                "dry-sand-backfill",
+                "--depths",
+                "0.5",
+            ],
+            "gauge range",
+        ),
+    ] {
+        let out = blastsph(&[&["gate", "--out", "/nonexistent/never"], args.as_slice()].concat());
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(named), "{args:?}: {}", stderr(&out));
+    }
+}
+
 /// `check-arrivals` on the thesis table: every entry impossible, exit 1; a physically possible
 /// table passes with exit 0; a missing file exits 2 naming it.
 #[test]

@@ -274,3 +274,77 @@ pub fn run_gate(
     write_atomic(&path, text.as_bytes())?;
     Ok((report, false))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gauges::Gauge;
+    use crate::record::Run;
+
+    fn request() -> GateRequest {
+        GateRequest {
+            charge_kg: 500.0,
+            soil: "dry-sand-backfill".into(),
+            depths_m: vec![10.0, 20.0],
+            level: Level::Quick,
+        }
+    }
+
+    /// A result kept under the request's hash is reused without running anything; a result
+    /// whose request differs is not.
+    #[test]
+    fn a_kept_result_with_the_same_inputs_is_reused() {
+        let dir = std::env::temp_dir().join(format!("blastsph-gate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let hash = inputs_hash(&request()).unwrap();
+        let kept = GateReport {
+            pass: true,
+            inputs_hash: hash.clone(),
+            request: request(),
+            problems: Vec::new(),
+            checks: Vec::new(),
+            not_covered: Vec::new(),
+        };
+        let text = serde_json::to_string(&kept).unwrap();
+        std::fs::write(report_path(&dir, &hash), text).unwrap();
+        let (report, reused) = run_gate(&request(), &dir, &|_, _| {}).unwrap();
+        assert!(reused);
+        assert_eq!(report, kept);
+        // another charge hashes differently
+        let other = GateRequest {
+            charge_kg: 1000.0,
+            ..request()
+        };
+        assert_ne!(inputs_hash(&other).unwrap(), hash);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The convergence check compares the deepest gauge's peak at the two finest runs.
+    #[test]
+    fn convergence_compares_the_two_finest_runs_at_the_deepest_gauge() {
+        let run = |spacing: f64, peak: f64| {
+            let mut run = Run::new("r", "", 10, spacing);
+            run.gauges.push(Gauge {
+                name: "r = 20 m".into(),
+                position_m: 20.0,
+                arrival_s: 0.1,
+                peak_pressure_pa: peak,
+                peak_velocity_m_s: 1.0,
+                impulse_pa_s: 1.0,
+                positive_phase_ended: true,
+            });
+            run
+        };
+        let record = Record::new(
+            "ground-shock-spherical",
+            Level::Quick,
+            vec![run(0.04, 50.0), run(0.02, 100.0), run(0.01, 108.0)],
+            Default::default(),
+            Vec::new(),
+            0,
+        );
+        let check = convergence(&record, 20.0);
+        assert!((check.value - 0.08).abs() < 1e-12, "{check:?}");
+        assert!(check.pass);
+    }
+}
