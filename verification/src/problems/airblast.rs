@@ -332,6 +332,49 @@ pub(super) fn charge_radius(mass: f64, rho: f64) -> f64 {
     (3.0 * mass / (4.0 * PI * rho)).cbrt()
 }
 
+/// A TNT sphere of the first n shells on `edges` inside shells of a second material (index
+/// 1), at rest at their (density, internal energy) states, with h = η × the shell's width; and
+/// the charge's programmed burn, lit at the centre.
+pub(super) fn charge_in_shells(
+    edges: &[f64],
+    n: usize,
+    eta: f64,
+    (rho_charge, e_charge): (f64, f64),
+    (rho_around, e_around): (f64, f64),
+    detonation_speed: f64,
+    ramp: f64,
+) -> Result<(Vec<ParticleInit<1>>, ProgrammedBurn), VerifyError> {
+    let init: Vec<ParticleInit<1>> = edges
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            let (rho, e, material) = if k < n {
+                (rho_charge, e_charge, 0)
+            } else {
+                (rho_around, e_around, 1)
+            };
+            ParticleInit {
+                position: Vector::<1>::new(0.5 * (w[0] + w[1])),
+                velocity: Vector::<1>::zeros(),
+                mass: rho * Geometry::Spherical.volume_between(w[0], w[1]),
+                smoothing_length: eta * (w[1] - w[0]),
+                density: rho,
+                internal_energy: e,
+                material,
+            }
+        })
+        .collect();
+    let positions: Vec<Vector<1>> = init.iter().map(|p| p.position).collect();
+    let burn = ProgrammedBurn::from_points(
+        &positions,
+        |i| init[i].material == 0,
+        &[Vector::<1>::zeros()],
+        detonation_speed,
+        ramp,
+    )?;
+    Ok((init, burn))
+}
+
 /// The shells' edges: n equal shells across the charge, then the air's, each
 /// max(R_c/n, g·r/n) wide, out to `outer`.
 pub(super) fn shell_edges(radius: f64, n: usize, grading: f64, outer: f64) -> Vec<f64> {
@@ -357,37 +400,16 @@ fn run_one(
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
     let library = Library::standard();
-    let (rho_tnt, e_tnt) = library.ambient_state("tnt")?;
-    let (rho_air, e_air) = library.ambient_state("air")?;
     let scale = s.charge_kg.cbrt();
-    let radius = charge_radius(s.simulated_charge_kg(), rho_tnt);
+    let radius = charge_radius(s.simulated_charge_kg(), library.value("tnt", "rho0")?);
     let edges = shell_edges(radius, n, s.grading, s.outer_z * scale);
-    let init: Vec<ParticleInit<1>> = edges
-        .windows(2)
-        .enumerate()
-        .map(|(k, w)| {
-            let (rho, e, material) = if k < n {
-                (rho_tnt, e_tnt, 0)
-            } else {
-                (rho_air, e_air, 1)
-            };
-            let eta = s.config.formulation.eta().unwrap_or(2.0);
-            ParticleInit {
-                position: Vector::<1>::new(0.5 * (w[0] + w[1])),
-                velocity: Vector::<1>::zeros(),
-                mass: rho * Geometry::Spherical.volume_between(w[0], w[1]),
-                smoothing_length: eta * (w[1] - w[0]),
-                density: rho,
-                internal_energy: e,
-                material,
-            }
-        })
-        .collect();
-    let positions: Vec<Vector<1>> = init.iter().map(|p| p.position).collect();
-    let burn = ProgrammedBurn::from_points(
-        &positions,
-        |i| init[i].material == 0,
-        &[Vector::<1>::zeros()],
+    let eta = s.config.formulation.eta().unwrap_or(2.0);
+    let (init, burn) = charge_in_shells(
+        &edges,
+        n,
+        eta,
+        library.ambient_state("tnt")?,
+        library.ambient_state("air")?,
         s.detonation_speed,
         s.ramp,
     )?;

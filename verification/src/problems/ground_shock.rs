@@ -39,7 +39,9 @@
 //! attenuation exponent n fitted to the peak velocities beyond the first gauge is recorded
 //! for both variants beside the relations'.
 
-use super::airblast::{charge_radius, health_checks, relative_error, shell_edges, viscosity};
+use super::airblast::{
+    charge_in_shells, charge_radius, health_checks, relative_error, shell_edges, viscosity,
+};
 use crate::gauges::GaugeTrace;
 use crate::materials::Library;
 use crate::params::{ParamSpec, Params};
@@ -51,8 +53,8 @@ use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    Domain, EnergyEquation, Formulation, Geometry, KernelShape, Material, ProgrammedBurn,
-    ShellDensity, Simulation, SimulationConfig, SmoothingLength, Strength, Vector,
+    Domain, EnergyEquation, Formulation, KernelShape, Material, ShellDensity, Simulation,
+    SimulationConfig, SmoothingLength, Strength,
 };
 
 pub const SPHERICAL: &str = "ground-shock-spherical";
@@ -280,37 +282,17 @@ fn run_one(
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
     let library = Library::standard();
-    let (rho_tnt, e_tnt) = library.ambient_state("tnt")?;
-    let (rho_sand, e_sand) = library.ambient_state(s.soil_material)?;
-    let radius = charge_radius(s.charge_kg, rho_tnt);
+    let rho_sand = library.value(s.soil_material, "rho0")?;
+    let radius = charge_radius(s.charge_kg, library.value("tnt", "rho0")?);
     let last_gauge = *s.gauges_m.last().expect("at least one gauge");
     let edges = shell_edges(radius, n, s.grading, OUTER_OVER_LAST_GAUGE * last_gauge);
     let eta = s.config.formulation.eta().unwrap_or(2.0);
-    let init: Vec<ParticleInit<1>> = edges
-        .windows(2)
-        .enumerate()
-        .map(|(k, w)| {
-            let (rho, e, material) = if k < n {
-                (rho_tnt, e_tnt, 0)
-            } else {
-                (rho_sand, e_sand, 1)
-            };
-            ParticleInit {
-                position: Vector::<1>::new(0.5 * (w[0] + w[1])),
-                velocity: Vector::<1>::zeros(),
-                mass: rho * Geometry::Spherical.volume_between(w[0], w[1]),
-                smoothing_length: eta * (w[1] - w[0]),
-                density: rho,
-                internal_energy: e,
-                material,
-            }
-        })
-        .collect();
-    let positions: Vec<Vector<1>> = init.iter().map(|p| p.position).collect();
-    let burn = ProgrammedBurn::from_points(
-        &positions,
-        |i| init[i].material == 0,
-        &[Vector::<1>::zeros()],
+    let (init, burn) = charge_in_shells(
+        &edges,
+        n,
+        eta,
+        library.ambient_state("tnt")?,
+        library.ambient_state(s.soil_material)?,
         s.detonation_speed,
         s.ramp,
     )?;
