@@ -14,7 +14,7 @@ pub enum Boundary {
     Wall,
     /// Images shifted by ±(hi_a − lo_a); particles leaving one side re-enter at the other.
     Periodic,
-    /// A side through which waves leave (Cartesian scenes): no images, and the particles
+    /// A side through which waves leave (Cartesian and axisymmetric scenes): no images, and the particles
     /// within a kernel support of the plane feel the traction of Lysmer & Kuhlemeyer's (1969)
     /// viscous boundary, −ρ c_P v_n normally and −ρ c_S v_t tangentially per unit area: the
     /// traction the material beyond would exert on a plane wave leaving through it. It is

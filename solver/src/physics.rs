@@ -357,12 +357,13 @@ impl<const D: usize> PairEquation<D> for SummationDensity<'_, D> {
     }
 }
 
-/// g_i = Σ_j V_j ∇_i W_ij, the kernel's gradient summed over the partners: zero inside a
-/// material, and where the partners end at a free side the share of that side's traction each
-/// particle takes in the pressure terms (∫ of its normal component over the side's particles
-/// is ½ per unit area).
+/// g_i = Σ_j V_j ∇_i W_ij, the kernel's gradient summed over the partners (images included):
+/// zero inside a material, and where the partners end at a free side the share of that side's
+/// traction each particle takes in the pressure terms (−Σ_i V_i g_i·n = ½ per unit area).
 pub(crate) struct KernelGradientSum<'a, const D: usize> {
     pub kernel: &'a Kernel<D>,
+    /// Rings in (r, z): the pair loops' volume is the ring's m/η, η = 2π r ρ.
+    pub axisymmetric: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -378,10 +379,15 @@ impl<const D: usize> PairEquation<D> for KernelGradientSum<'_, D> {
     type Output = Vector<D>;
 
     fn source(&self, p: &Particles<D>, k: usize) -> VolumeSource<D> {
+        let ring = if self.axisymmetric {
+            2.0 * std::f64::consts::PI * p.position[k][0].abs()
+        } else {
+            1.0
+        };
         VolumeSource {
             position: p.position[k],
             smoothing_length: p.smoothing_length[k],
-            volume: p.mass[k] / p.density[k],
+            volume: p.mass[k] / (ring * p.density[k]),
         }
     }
 

@@ -255,15 +255,14 @@ impl<const D: usize> Simulation<D> {
         if formulation.is_axisymmetric() {
             validate_axisymmetric_scene(init, &domain)?;
         }
-        let planar_sums = formulation.geometry() == Geometry::Planar
-            && !formulation.is_axisymmetric()
-            && !formulation.is_total_lagrangian();
+        let planar_sums =
+            formulation.geometry() == Geometry::Planar && !formulation.is_total_lagrangian();
         if !domain.transmitting_sides().is_empty() && !planar_sums {
             return Err(SolverError::invalid(
                 "boundary",
                 "transmitting",
-                "in Cartesian scenes (its traction is weighted by the Cartesian kernel sums; \
-                 radial, axisymmetric and total-Lagrangian scenes have sums of their own)",
+                "in Cartesian and axisymmetric scenes (its traction is weighted by their \
+                 planar kernel sums; radial and total-Lagrangian scenes have sums of their own)",
             ));
         }
         let total_lagrangian = formulation.is_total_lagrangian();
@@ -654,6 +653,7 @@ impl<const D: usize> Simulation<D> {
         let shear_modulus = shear_moduli(&self.materials);
         let equation = physics::KernelGradientSum {
             kernel: &self.kernel,
+            axisymmetric: self.config.formulation.is_axisymmetric(),
         };
         let sources = pairs::sources(&equation, &self.particles);
         let p = &mut self.particles;
