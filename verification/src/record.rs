@@ -287,12 +287,16 @@ pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f6
 /// The errors that stand for a run's accuracy, the first a run has: the L1 density error (shock
 /// tubes, Sedov, the water–air tube), the L1 velocity error over the impact speed (interface
 /// problems), the L1 pressure error over p_CJ (detonation), the mean peak-overpressure error
-/// of the gated gauges against the scaled-distance relations (blast waves).
-pub const HEADLINE_ERRORS: [&str; 4] = [
+/// of the gated gauges against the scaled-distance relations (blast waves), the mean
+/// |ln(peak velocity / relations)| of the ground-shock gauges (factors, as the relations'
+/// bands are), the larger reflection coefficient of a transmitting column's two sides.
+pub const HEADLINE_ERRORS: [&str; 6] = [
     "l1_rho",
     "l1_u_over_v",
     "l1_p_over_p_cj",
     "mean_peak_overpressure_error",
+    "mean_log_peak_velocity_ratio",
+    "reflection_coefficient",
 ];
 
 impl Run {

@@ -108,6 +108,8 @@ fn problem_family(problem: &str) -> &'static str {
         "Sedov blasts"
     } else if problem.starts_with("airblast") || problem == "hopkinson-cranz" {
         "air blast against Kingery–Bulmash"
+    } else if problem.starts_with("ground-shock") || problem == "transmitting-boundary" {
+        "ground shock and its boundaries"
     } else {
         "interfaces and detonation"
     }

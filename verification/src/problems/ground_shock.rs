@@ -382,6 +382,18 @@ fn run_one(
         peak_velocities.push((r, gauge.peak_velocity_m_s));
         run.gauges.push(gauge);
     }
+    let log_ratios: Vec<f64> = peak_velocities
+        .iter()
+        .map(|&(r, u)| {
+            (u / reference(s, r).map_or(f64::NAN, |g| g.peak_velocity_m_s))
+                .ln()
+                .abs()
+        })
+        .collect();
+    run.errors.insert(
+        "mean_log_peak_velocity_ratio".into(),
+        log_ratios.iter().sum::<f64>() / log_ratios.len() as f64,
+    );
     let arrivals: Vec<(f64, f64)> = run
         .gauges
         .iter()

@@ -289,10 +289,16 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
             .find(|(v, m, _)| *m == n && v.material == variant.material && v.ends == Ends::Far);
         let Some((_, _, far)) = far else { continue };
         let reflections = reflection_coefficients(&measured[k].2.history, &far.history);
+        let run = &mut measured[k].2.run;
         for (x, (coefficient, incident)) in GAUGES.iter().zip(reflections) {
-            let metrics = &mut measured[k].2.run.metrics;
-            metrics.insert(format!("reflection_coefficient_x{x}"), coefficient);
-            metrics.insert(format!("incident_peak_velocity_x{x}"), incident);
+            run.metrics
+                .insert(format!("reflection_coefficient_x{x}"), coefficient);
+            run.metrics
+                .insert(format!("incident_peak_velocity_x{x}"), incident);
+        }
+        if variant.ends == Ends::Transmitting {
+            let largest = reflections.iter().map(|r| r.0).fold(0.0, f64::max);
+            run.errors.insert("reflection_coefficient".into(), largest);
         }
     }
     let n_fine = *resolutions.iter().max().expect("a resolution");
