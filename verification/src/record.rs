@@ -139,12 +139,9 @@ impl Run {
     ) -> Result<Option<blastsph_solver::Simulation<D>>, crate::VerifyError> {
         let (init, materials, domain, config) = scene;
         let start = std::time::Instant::now();
-        let mut sim = match blastsph_solver::Simulation::new(init, materials, domain, config) {
-            Ok(sim) => sim,
-            Err(refused) => {
-                self.failure = Some(crate::VerifyError::from_scene(refused)?);
-                return Ok(None);
-            }
+        let built = blastsph_solver::Simulation::new(init, materials, domain, config);
+        let Some(mut sim) = self.started(built)? else {
+            return Ok(None);
         };
         let outcome = sim.run_until(t_end, |t| progress(t / t_end));
         self.record_work(&sim, start);
@@ -152,6 +149,22 @@ impl Run {
             Ok(()) => Ok(Some(sim)),
             Err(e) => {
                 self.failure = Some(e.to_string());
+                Ok(None)
+            }
+        }
+    }
+
+    /// The simulation a scene built, or `None` with the solver's refusal as the run's failure
+    /// (a refusal of bad input is returned as the error instead, see
+    /// [`crate::VerifyError::from_scene`]).
+    pub fn started<const D: usize>(
+        &mut self,
+        built: Result<blastsph_solver::Simulation<D>, blastsph_solver::SolverError>,
+    ) -> Result<Option<blastsph_solver::Simulation<D>>, crate::VerifyError> {
+        match built {
+            Ok(sim) => Ok(Some(sim)),
+            Err(refused) => {
+                self.failure = Some(crate::VerifyError::from_scene(refused)?);
                 Ok(None)
             }
         }

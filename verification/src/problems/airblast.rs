@@ -424,22 +424,19 @@ fn run_one(
         .map(|&z| GaugeTrace::new(format!("Z = {z}"), z * scale))
         .collect();
     let start = std::time::Instant::now();
-    let mut sim = match Simulation::<1>::with_programmed_burn(
+    let Some(mut sim) = run.started(Simulation::<1>::with_programmed_burn(
         &init,
         materials,
         Domain::open(),
         s.config,
         burn,
-    ) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok(Measured {
-                run,
-                traces,
-                snapshot: None,
-            });
-        }
+    ))?
+    else {
+        return Ok(Measured {
+            run,
+            traces,
+            snapshot: None,
+        });
     };
     let books = Conservation::open(&sim);
     read_gauges(&sim, 0.0, s.ambient_pressure, &mut traces);
@@ -469,13 +466,11 @@ fn run_one(
             steps += sim.steps();
             offset += sim.time();
             let materials = vec![library.material("tnt")?, library.material("air")?];
-            sim = match Simulation::<1>::new(&fresh, materials, Domain::open(), s.config) {
-                Ok(sim) => sim,
-                Err(refused) => {
-                    run.failure = Some(VerifyError::from_scene(refused)?);
-                    break;
-                }
+            let built = Simulation::<1>::new(&fresh, materials, Domain::open(), s.config);
+            let Some(fresh_sim) = run.started(built)? else {
+                break;
             };
+            sim = fresh_sim;
             rezones += 1;
             rezone_at *= 2.0;
         }

@@ -167,12 +167,9 @@ fn run_one(
     ];
     let mut run = Run::new(format!("n = {n}"), "", n, dx);
     let start = std::time::Instant::now();
-    let mut sim = match Simulation::<1>::new(&init, materials, domain, s.config) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok((run, Vec::new(), None));
-        }
+    let Some(mut sim) = run.started(Simulation::<1>::new(&init, materials, domain, s.config))?
+    else {
+        return Ok((run, Vec::new(), None));
     };
     let books = Conservation::open(&sim);
     let outcome = sim.run_until(s.t_end, |t| progress(t / s.t_end));

@@ -211,14 +211,15 @@ fn run_one<const D: usize>(
     let label = format!("{} n = {n}", lateral.formulation);
     let mut run = Run::new(label, lateral.formulation, init.len(), dx);
     let start = std::time::Instant::now();
-    let mut sim =
-        match Simulation::<D>::new(&init, vec![library.material(MATERIAL)?], domain, config) {
-            Ok(sim) => sim,
-            Err(refused) => {
-                run.failure = Some(VerifyError::from_scene(refused)?);
-                return Ok((run, Vec::new(), None));
-            }
-        };
+    let Some(mut sim) = run.started(Simulation::<D>::new(
+        &init,
+        vec![library.material(MATERIAL)?],
+        domain,
+        config,
+    ))?
+    else {
+        return Ok((run, Vec::new(), None));
+    };
     let energy0 = sim.particles().total_energy();
     let t_first = 0.5 * t_end;
     let mut outcome = sim.run_until(t_first, |t| progress(t / t_end));

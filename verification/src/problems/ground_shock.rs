@@ -310,22 +310,19 @@ fn run_one(
         .map(|&r| GaugeTrace::new(format!("r = {r} m"), r))
         .collect();
     let start = std::time::Instant::now();
-    let mut sim = match Simulation::<1>::with_programmed_burn(
+    let Some(mut sim) = run.started(Simulation::<1>::with_programmed_burn(
         &init,
         materials,
         Domain::open(),
         s.config,
         burn,
-    ) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok(Measured {
-                run,
-                traces,
-                snapshot: None,
-            });
-        }
+    ))?
+    else {
+        return Ok(Measured {
+            run,
+            traces,
+            snapshot: None,
+        });
     };
     let books = Conservation::open(&sim);
     let attached: Vec<MaterialGauge> = s

@@ -354,17 +354,14 @@ fn run_one(
     let t_mid = exact.t_hit + 0.5 * (t_end - exact.t_hit);
     let mut run = Run::new(format!("{n_per_cm} per cm"), "", init.len(), dx);
     let start = std::time::Instant::now();
-    let mut sim = match Simulation::<1>::new(&init, materials, domain, s.config) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok(Measured {
-                run,
-                snapshot: None,
-                profile: Vec::new(),
-                reflected: None,
-            });
-        }
+    let Some(mut sim) = run.started(Simulation::<1>::new(&init, materials, domain, s.config))?
+    else {
+        return Ok(Measured {
+            run,
+            snapshot: None,
+            profile: Vec::new(),
+            reflected: None,
+        });
     };
     let books = Conservation::open(&sim);
     let mut outcome = sim.run_until(t_mid, |t| progress(t / t_end));

@@ -312,13 +312,9 @@ fn run_blast<const D: usize>(
         gauges: Vec::new(),
     };
     let start = std::time::Instant::now();
-    let mut sim = match Simulation::<D>::new(&init, vec![gas], domain, s.config) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            let diagnosis = VerifyError::from_scene(refused)?;
-            run.failure = Some(diagnosis);
-            return Ok(BlastRun { run, state: None });
-        }
+    let Some(mut sim) = run.started(Simulation::<D>::new(&init, vec![gas], domain, s.config))?
+    else {
+        return Ok(BlastRun { run, state: None });
     };
     let energy0 = sim.particles().total_energy();
     let outcome = sim.run_until(s.exact.time, |t| progress(t / s.exact.time));

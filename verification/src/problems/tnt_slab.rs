@@ -273,14 +273,12 @@ fn run_one(
         end: Vec::new(),
     };
     let start = std::time::Instant::now();
-    let mut sim =
-        match Simulation::<1>::with_programmed_burn(&init, materials, domain, s.config, burn) {
-            Ok(sim) => sim,
-            Err(refused) => {
-                run.failure = Some(VerifyError::from_scene(refused)?);
-                return Ok(empty(run));
-            }
-        };
+    let Some(mut sim) = run.started(Simulation::<1>::with_programmed_burn(
+        &init, materials, domain, s.config, burn,
+    ))?
+    else {
+        return Ok(empty(run));
+    };
     let books = Conservation::open(&sim);
     let p_cj = s.detonation.cj.pressure;
     let mut looks = Vec::new();

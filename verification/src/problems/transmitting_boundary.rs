@@ -180,15 +180,12 @@ fn run_one(
     };
     let mut run = Run::new(variant.label() + &format!(" n = {n}"), "", count, dx);
     let clock = std::time::Instant::now();
-    let mut sim = match Simulation::<1>::new(&init, vec![material], domain, config) {
-        Ok(sim) => sim,
-        Err(refused) => {
-            run.failure = Some(VerifyError::from_scene(refused)?);
-            return Ok(Measured {
-                run,
-                history: Vec::new(),
-            });
-        }
+    let Some(mut sim) = run.started(Simulation::<1>::new(&init, vec![material], domain, config))?
+    else {
+        return Ok(Measured {
+            run,
+            history: Vec::new(),
+        });
     };
     // the pulses' energy: twice their kinetic energy once they have parted (a plane wave
     // carries as much as strain energy), the largest kinetic energy of the run
