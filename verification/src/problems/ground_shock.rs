@@ -88,7 +88,7 @@ const PEAK_FACTOR_LIMIT: f64 = 3.0;
 /// The open outer edge, in units of the last gauge's range: the loading wave reaches it at
 /// 2r/c0 and its reflection comes back to the last gauge at 3r/c, later than the run's end
 /// (1.5 r/c_ref, [`END_MARGIN`]) while the sand carries it slower than 2 c_ref ≈ 610 m/s; the
-/// unloaded sand's sound speed is 265 m/s and its P-wave speed with shear 340 m/s.
+/// unloaded sand's sound speed is 265 m/s and its P-wave speed with shear 367 m/s.
 const OUTER_OVER_LAST_GAUGE: f64 = 2.0;
 /// The run ends at this multiple of the relations' arrival at the last gauge: their rise time
 /// is a tenth of the arrival, so the peak has passed even with an arrival 30 % late.
