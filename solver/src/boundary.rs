@@ -24,13 +24,6 @@ pub enum Boundary {
     Transmitting,
 }
 
-/// Which side of an axis a boundary is on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Side {
-    Lower,
-    Upper,
-}
-
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Domain<const D: usize> {
     pub lo: Vector<D>,
@@ -168,15 +161,15 @@ impl<const D: usize> Domain<D> {
         impulse
     }
 
-    /// The transmitting sides: (axis, side, the plane's coordinate, the outward normal's sign).
-    pub fn transmitting_sides(&self) -> Vec<(usize, Side, f64, f64)> {
+    /// The transmitting sides: (axis, the plane's coordinate, the outward normal's sign).
+    pub fn transmitting_sides(&self) -> Vec<(usize, f64, f64)> {
         let mut sides = Vec::new();
         for a in 0..D {
             if self.lower[a] == Boundary::Transmitting {
-                sides.push((a, Side::Lower, self.lo[a], -1.0));
+                sides.push((a, self.lo[a], -1.0));
             }
             if self.upper[a] == Boundary::Transmitting {
-                sides.push((a, Side::Upper, self.hi[a], 1.0));
+                sides.push((a, self.hi[a], 1.0));
             }
         }
         sides

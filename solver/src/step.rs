@@ -661,14 +661,14 @@ impl<const D: usize> Simulation<D> {
             let reach = self.kernel.support_radius(p.smoothing_length[i]);
             let near: Vec<_> = sides
                 .iter()
-                .filter(|&&(a, _, plane, outward)| outward * (plane - p.position[i][a]) < reach)
+                .filter(|&&(a, plane, outward)| outward * (plane - p.position[i][a]) < reach)
                 .collect();
             if near.is_empty() {
                 continue;
             }
             let g = pairs::sum_at(&equation, &sources, &self.neighbours, i);
             let shear_speed = (shear_modulus[p.material_of(i)] / p.density[i]).sqrt();
-            for &&(a, _, _, outward) in &near {
+            for &&(a, _, outward) in &near {
                 let weight = (-2.0 * outward * g[a]).max(0.0);
                 let v = p.velocity[i];
                 let mut acceleration = Vector::<D>::zeros();
