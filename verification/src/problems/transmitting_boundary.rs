@@ -342,29 +342,55 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
             .map(|(t, v)| vec![*t, v[0], v[1]])
             .collect();
     }
-    let panels = GAUGES
+    // one panel per material at the gauge 10 m inside the upper side, velocity over the
+    // incident peak: the pulse, the walls' full reflection, the transmitting sides' flat line
+    let materials = [
+        Column::DruckerPragerSand,
+        Column::NoShearSand,
+        Column::Elastic,
+    ];
+    let panels = materials
         .iter()
-        .enumerate()
-        .map(|(g, x)| Panel {
-            title: format!("gauge at x = {x} m"),
-            x_label: "t (ms)".into(),
-            y_label: "velocity (m/s)".into(),
-            series: finest
+        .filter_map(|&material| {
+            let of_material: Vec<_> = finest
                 .iter()
-                .map(|(variant, _, m)| Series {
-                    label: variant.label(),
-                    points: m.history.iter().map(|(t, v)| (1e3 * t, v[g])).collect(),
-                    style: if variant.ends == Ends::Transmitting {
-                        Style::Line
-                    } else {
-                        Style::Markers
-                    },
-                })
-                .collect(),
+                .filter(|(v, _, _)| v.material == material)
+                .collect();
+            let (far, _, _) = of_material.first()?;
+            let incident = of_material
+                .iter()
+                .find(|(v, _, _)| v.ends == Ends::Far)
+                .map(|(_, _, m)| {
+                    m.history
+                        .iter()
+                        .map(|(_, v)| v[1].abs())
+                        .fold(0.0, f64::max)
+                })?;
+            Some(Panel {
+                title: format!("{} at x = {} m", far.label().split(", ").next()?, GAUGES[1]),
+                x_label: "t (ms)".into(),
+                y_label: "velocity / incident peak".into(),
+                series: of_material
+                    .iter()
+                    .map(|(variant, _, m)| Series {
+                        label: variant.label().split(", ").nth(1).unwrap_or("").into(),
+                        points: m
+                            .history
+                            .iter()
+                            .map(|(t, v)| (1e3 * t, v[1] / incident))
+                            .collect(),
+                        style: if variant.ends == Ends::Walls {
+                            Style::Markers
+                        } else {
+                            Style::Line
+                        },
+                    })
+                    .collect(),
+            })
         })
         .collect();
     let figure = Figure {
-        title: format!("{NAME}: a plane pulse in sand, n = {n_fine}"),
+        title: format!("{NAME}: plane pulses through transmitting sides, n = {n_fine}"),
         panels,
     };
     let headline = measured
