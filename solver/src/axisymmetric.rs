@@ -150,8 +150,14 @@ impl<const D: usize> PairEquation<D> for RadiusGradient<'_, D> {
         *odd -= weight * (r_i - r_j);
     }
 
+    /// A ring with no partner off its own radius has no pair sums to balance: its hoop terms
+    /// are the exact ones (G = 1).
     fn finish(&self, _: &RingSource<D>, (even, odd): (f64, f64)) -> f64 {
-        even / odd
+        if odd == 0.0 {
+            1.0
+        } else {
+            even / odd
+        }
     }
 }
 

@@ -185,6 +185,41 @@ fn jostled_column_conserves_energy_and_axial_momentum() {
     }
 }
 
+/// A ring with no partner (a particle left alone where a blast's products thinned out) feels
+/// the exact hoop force p/(ρr) of its own pressure, not the 0/0 of the axis factor that the
+/// pair sums cannot define without partners.
+#[test]
+fn a_ring_without_partners_feels_its_own_hoop_force() {
+    let (dx, r) = (1e-3, 0.01);
+    let compressed = 1.01 * RHO0;
+    let init = [ParticleInit {
+        position: Vector::<2>::new(r, 0.0),
+        velocity: Vector::zeros(),
+        mass: compressed * 2.0 * PI * r * dx * dx,
+        smoothing_length: 1.2 * dx,
+        density: compressed,
+        internal_energy: 0.0,
+        material: 0,
+    }];
+    let domain = Domain::with_sides(
+        Vector::<2>::new(0.0, -1.0),
+        Vector::<2>::new(1.0, 1.0),
+        [Boundary::Wall, Boundary::Open],
+        [Boundary::Open, Boundary::Open],
+    )
+    .unwrap();
+    let sim = Simulation::new(&init, vec![copper(400e6)], domain, config()).unwrap();
+    let p = sim.particles();
+    let pressure = p.pressure[0];
+    assert!(pressure > 1e9, "{pressure}");
+    let hoop = pressure / (compressed * r);
+    assert!(
+        (p.acceleration[0][0] - hoop).abs() <= 1e-12 * hoop,
+        "{} against {hoop}",
+        p.acceleration[0][0]
+    );
+}
+
 /// An axisymmetric scene needs 2D, a wall on the axis and r > 0: each refused by name (its
 /// continuity density is in its type).
 #[test]
