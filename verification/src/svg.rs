@@ -1,14 +1,48 @@
 //! A small SVG line-plot writer: panels of series on linear axes, with ticks and a legend
 //! below each plot area (outside the data), drawn with each series' own line and marker.
+//! A panel that holds a particle map (a series coloured by a field) is drawn at equal scales
+//! on both axes, with a colour bar beside it.
 
 use std::fmt::Write;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Style {
     Line,
     Markers,
     /// Markers joined by a line (a convergence or work–precision series).
     LineMarkers,
+    /// Particles as filled dots coloured by a field, one value per point.
+    Coloured(Field),
+}
+
+/// A field over a series' points (a particle map's colour).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field {
+    /// The field's name and unit, shown on the colour bar.
+    pub name: String,
+    pub values: Vec<f64>,
+}
+
+/// The colour map's anchors, low to high (viridis at five stops: perceptually ordered and
+/// readable in grey and by colour-blind readers); colours in between are blended linearly.
+const COLOUR_MAP: [(f64, f64, f64); 5] = [
+    (68.0, 1.0, 84.0),
+    (59.0, 82.0, 139.0),
+    (33.0, 145.0, 140.0),
+    (94.0, 201.0, 98.0),
+    (253.0, 231.0, 37.0),
+];
+/// Width of a particle map's colour bar and of the room for its labels.
+const COLOUR_BAR_W: f64 = 12.0;
+const COLOUR_BAR_ROOM: f64 = 70.0;
+
+/// The colour of `fraction` ∈ [0, 1] of the way along the colour map.
+fn colour_at(fraction: f64) -> String {
+    let t = fraction.clamp(0.0, 1.0) * (COLOUR_MAP.len() - 1) as f64;
+    let k = (t.floor() as usize).min(COLOUR_MAP.len() - 2);
+    let (a, b, u) = (COLOUR_MAP[k], COLOUR_MAP[k + 1], t - k as f64);
+    let mix = |x: f64, y: f64| (x + (y - x) * u).round() as u8;
+    format!("#{:02x}{:02x}{:02x}", mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 #[derive(Clone, Debug)]
@@ -194,19 +228,56 @@ impl Panel {
         }
     }
 
+    /// The field of the panel's particle map, if it holds one.
+    fn field(&self) -> Option<&Field> {
+        self.series.iter().find_map(|s| match &s.style {
+            Style::Coloured(field) => Some(field),
+            _ => None,
+        })
+    }
+
     fn draw(&self, s: &mut String, ox: f64, oy: f64) {
         let (ml, mr, mt, mb) = MARGIN;
-        let (x0, y0, w, h) = (ox + ml, oy + mt, PANEL_W - ml - mr, PANEL_H - mt - mb);
-        let (xlo, xhi) = bounds(
+        let field = self.field();
+        let bar_room = if field.is_some() { COLOUR_BAR_ROOM } else { 0.0 };
+        let (x0, y0, w, h) = (
+            ox + ml,
+            oy + mt,
+            PANEL_W - ml - mr - bar_room,
+            PANEL_H - mt - mb,
+        );
+        let (mut xlo, mut xhi) = bounds(
             self.series
                 .iter()
                 .flat_map(|s| s.points.iter().map(|p| p.0)),
         );
-        let (ylo, yhi) = bounds(
+        let (mut ylo, mut yhi) = bounds(
             self.series
                 .iter()
                 .flat_map(|s| s.points.iter().map(|p| p.1)),
         );
+        if field.is_some() {
+            // equal scales: the shorter range widens about its middle to the common scale
+            let scale = ((xhi - xlo) / w).max((yhi - ylo) / h);
+            let (xm, ym) = (0.5 * (xlo + xhi), 0.5 * (ylo + yhi));
+            (xlo, xhi) = (xm - 0.5 * scale * w, xm + 0.5 * scale * w);
+            (ylo, yhi) = (ym - 0.5 * scale * h, ym + 0.5 * scale * h);
+        }
+        let range = field.map(|f| {
+            let (lo, hi) = f
+                .values
+                .iter()
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
+            if lo.is_finite() && hi > lo {
+                (lo, hi)
+            } else {
+                (lo.min(0.0), lo.max(0.0) + 1.0)
+            }
+        });
+        let fraction = |v: f64| range.map_or(0.5, |(lo, hi)| (v - lo) / (hi - lo));
         let px = |x: f64| x0 + (x - xlo) / (xhi - xlo) * w;
         let py = |y: f64| y0 + h - (y - ylo) / (yhi - ylo) * h;
         let _ = writeln!(
@@ -260,6 +331,20 @@ impl Panel {
         );
         for (k, series) in self.series.iter().enumerate() {
             let (colour, shape) = look(k);
+            if let Style::Coloured(field) = &series.style {
+                for (&(x, y), &v) in series.points.iter().zip(&field.values) {
+                    if x.is_finite() && y.is_finite() && v.is_finite() {
+                        let _ = writeln!(
+                            s,
+                            r#"<circle cx="{:.2}" cy="{:.2}" r="2.5" fill="{}"/>"#,
+                            px(x),
+                            py(y),
+                            colour_at(fraction(v))
+                        );
+                    }
+                }
+                continue;
+            }
             let finite = series
                 .points
                 .iter()
@@ -281,6 +366,40 @@ impl Panel {
                 }
             }
         }
+        if let (Some(field), Some((lo, hi))) = (field, range) {
+            let bx = x0 + w + 12.0;
+            let stops: Vec<String> = (0..COLOUR_MAP.len())
+                .map(|k| {
+                    let f = k as f64 / (COLOUR_MAP.len() - 1) as f64;
+                    format!(
+                        r#"<stop offset="{f}" stop-color="{}"/>"#,
+                        colour_at(1.0 - f)
+                    )
+                })
+                .collect();
+            let id = format!("bar{}{}", ox as i64, oy as i64);
+            let _ = writeln!(
+                s,
+                r##"<defs><linearGradient id="{id}" x1="0" y1="0" x2="0" y2="1">{}</linearGradient></defs><rect x="{bx}" y="{y0}" width="{COLOUR_BAR_W}" height="{h}" fill="url(#{id})" stroke="#444"/>"##,
+                stops.join("")
+            );
+            for (value, y) in [(hi, y0 + 4.0), (lo, y0 + h)] {
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{}" y="{y}">{}</text>"#,
+                    bx + COLOUR_BAR_W + 3.0,
+                    fmt_tick(value)
+                );
+            }
+            let _ = writeln!(
+                s,
+                r#"<text transform="translate({},{}) rotate(-90)" text-anchor="middle" font-size="{:.1}">{}</text>"#,
+                bx + COLOUR_BAR_W + 30.0,
+                y0 + h / 2.0,
+                fitting_font_size(&field.name, 12.0, h),
+                escape(&field.name)
+            );
+        }
         // the legend below the axis label, outside the data: each entry drawn as its series is
         let columns = self.legend_columns();
         let column_width = (PANEL_W - ml - mr) / columns as f64;
@@ -297,6 +416,14 @@ impl Panel {
             }
             if matches!(series.style, Style::Markers | Style::LineMarkers) {
                 marker(s, shape, lx + 10.0, ly, colour);
+            }
+            if matches!(series.style, Style::Coloured(_)) {
+                let _ = writeln!(
+                    s,
+                    r#"<circle cx="{:.2}" cy="{ly:.2}" r="2.5" fill="{}"/>"#,
+                    lx + 10.0,
+                    colour_at(0.5)
+                );
             }
             // cut labels that would leave the column
             let room = ((column_width - 30.0) / CHARACTER_W) as usize;
@@ -381,6 +508,52 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A particle map: one data unit is as many pixels along x as along y, and the lowest and
+    /// highest values take the colour map's two ends.
+    #[test]
+    fn particle_maps_have_equal_scales_and_span_the_colour_map() {
+        let panel = Panel {
+            series: vec![Series {
+                label: "particles".into(),
+                points: vec![(0.0, 0.0), (1.0, 0.0), (0.0, 4.0)],
+                style: Style::Coloured(Field {
+                    name: "strain".into(),
+                    values: vec![0.0, 1.0, 2.0],
+                }),
+            }],
+            ..Panel::default()
+        };
+        let svg = Figure {
+            title: "map".into(),
+            panels: vec![panel],
+        }
+        .to_svg();
+        let circles: Vec<(f64, f64, String)> = svg
+            .split("<circle")
+            .skip(1)
+            .map(|tag| &tag[..tag.find('>').unwrap()])
+            .filter(|tag| !tag.contains("stroke"))
+            .map(|tag| {
+                let value = |name: &str| {
+                    let start = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+                    tag[start..start + tag[start..].find('"').unwrap()].to_string()
+                };
+                (
+                    value("cx").parse().unwrap(),
+                    value("cy").parse().unwrap(),
+                    value("fill"),
+                )
+            })
+            .collect();
+        // three particles and the legend's sample
+        assert_eq!(circles.len(), 4, "{svg}");
+        let x_unit = circles[1].0 - circles[0].0;
+        let y_unit = (circles[0].1 - circles[2].1) / 4.0;
+        assert!(x_unit > 0.0 && (x_unit - y_unit).abs() < 0.02, "{x_unit} {y_unit}");
+        assert_eq!(circles[0].2, "#440154");
+        assert_eq!(circles[2].2, "#fde725");
     }
 
     #[test]

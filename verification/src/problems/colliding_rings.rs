@@ -15,7 +15,7 @@
 use crate::materials::Library;
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, ProblemOutput, Record, Run, Table};
-use crate::svg::{Figure, Panel, Series, Style};
+use crate::svg::{Field, Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::VerifyError;
 use blastsph_solver::particles::ParticleInit;
@@ -329,9 +329,12 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
         x_label: "x (cm)".into(),
         y_label: "y (cm)".into(),
         series: vec![Series {
-            label: "particles".into(),
+            label: "particles, coloured by ring".into(),
             points: m.particles.iter().map(|q| (1e2 * q.0, 1e2 * q.1)).collect(),
-            style: Style::Markers,
+            style: Style::Coloured(Field {
+                name: "ring (0: left, 1: right)".into(),
+                values: m.particles.iter().map(|q| q.2).collect(),
+            }),
         }],
     };
     let figure = Figure {

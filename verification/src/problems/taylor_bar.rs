@@ -29,7 +29,7 @@
 use crate::materials::Library;
 use crate::params::{ParamSpec, Params};
 use crate::record::{observed_orders, Check, ProblemOutput, Record, Run, Table};
-use crate::svg::{Figure, Panel, Series, Style};
+use crate::svg::{Field, Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
@@ -636,9 +636,12 @@ pub fn run(
             y_label: "z (mm)".into(),
             series: vec![
                 Series {
-                    label: "SPH".into(),
+                    label: "SPH, coloured by plastic strain".into(),
                     points: side,
-                    style: Style::Markers,
+                    style: Style::Coloured(Field {
+                        name: "equivalent plastic strain".into(),
+                        values: measured[finest].profile.iter().map(|q| q.2).collect(),
+                    }),
                 },
                 Series {
                     label: format!(
