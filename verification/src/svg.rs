@@ -42,7 +42,12 @@ fn colour_at(fraction: f64) -> String {
     let k = (t.floor() as usize).min(COLOUR_MAP.len() - 2);
     let (a, b, u) = (COLOUR_MAP[k], COLOUR_MAP[k + 1], t - k as f64);
     let mix = |x: f64, y: f64| (x + (y - x) * u).round() as u8;
-    format!("#{:02x}{:02x}{:02x}", mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(a.0, b.0),
+        mix(a.1, b.1),
+        mix(a.2, b.2)
+    )
 }
 
 #[derive(Clone, Debug)]
@@ -239,7 +244,11 @@ impl Panel {
     fn draw(&self, s: &mut String, ox: f64, oy: f64) {
         let (ml, mr, mt, mb) = MARGIN;
         let field = self.field();
-        let bar_room = if field.is_some() { COLOUR_BAR_ROOM } else { 0.0 };
+        let bar_room = if field.is_some() {
+            COLOUR_BAR_ROOM
+        } else {
+            0.0
+        };
         let (x0, y0, w, h) = (
             ox + ml,
             oy + mt,
@@ -551,7 +560,10 @@ mod tests {
         assert_eq!(circles.len(), 4, "{svg}");
         let x_unit = circles[1].0 - circles[0].0;
         let y_unit = (circles[0].1 - circles[2].1) / 4.0;
-        assert!(x_unit > 0.0 && (x_unit - y_unit).abs() < 0.02, "{x_unit} {y_unit}");
+        assert!(
+            x_unit > 0.0 && (x_unit - y_unit).abs() < 0.02,
+            "{x_unit} {y_unit}"
+        );
         assert_eq!(circles[0].2, "#440154");
         assert_eq!(circles[2].2, "#fde725");
     }
