@@ -173,7 +173,8 @@ impl<const D: usize> CellGrid<D> {
         mut visit: impl FnMut(usize),
     ) {
         let lo: [usize; D] = std::array::from_fn(|a| centre[a].saturating_sub(rings));
-        let hi: [usize; D] = std::array::from_fn(|a| (centre[a] + rings).min(self.dims[a] - 1));
+        let hi: [usize; D] =
+            std::array::from_fn(|a| centre[a].saturating_add(rings).min(self.dims[a] - 1));
         let mut cell = lo;
         loop {
             visit(self.linear_index(&cell));
@@ -556,5 +557,18 @@ mod tests {
         assert_eq!(lists.of(100).count(), 0);
         // spacing 0.01·√3 ≈ 0.0173 along the diagonal, reach 2h = 0.04: two on each side
         assert_eq!(lists.of(50).count(), 4);
+    }
+
+    /// A particle whose h has grown without bound (a gas expanded to nothing) reaches every
+    /// other particle: its search covers the whole grid instead of overflowing the cell range.
+    #[test]
+    fn an_unbounded_smoothing_length_reaches_everyone() {
+        let x: Vec<Vector<2>> = (0..50)
+            .map(|i| Vector::<2>::new(i as f64 * 0.01, 0.0))
+            .collect();
+        let mut h = vec![0.012; x.len()];
+        h[10] = f64::MAX;
+        let lists = find_neighbours(&x, &h, 2.0, PairReach::LargerH, x.len());
+        assert_eq!(lists.of(10).count(), x.len() - 1);
     }
 }
