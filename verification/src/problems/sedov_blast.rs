@@ -19,7 +19,7 @@ use crate::norms::observed_order;
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, ProblemOutput, Record, Run, Table};
 use crate::sedov::SedovBlast;
-use crate::svg::{Figure, Panel, Series, Style};
+use crate::svg::{Field, Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
 use blastsph_solver::formulation::ETA_RANGE;
@@ -718,6 +718,28 @@ fn profile_outputs(s: &Settings, state: Option<&FinalState>) -> (Table, Figure) 
             }
         })
         .collect();
+    let mut panels: Vec<Panel> = panels;
+    // a plane blast: its particles, coloured by density, show the shock's roundness
+    if let Some(state) = state.filter(|st| st.direction.first().is_some_and(|d| d.len() == 2)) {
+        panels.push(Panel {
+            title: "particles".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            series: vec![Series {
+                label: "SPH, coloured by density".into(),
+                points: state
+                    .radius
+                    .iter()
+                    .zip(&state.direction)
+                    .map(|(r, d)| (r * d[0], r * d[1]))
+                    .collect(),
+                style: Style::Coloured(Field {
+                    name: "density".into(),
+                    values: state.density.clone(),
+                }),
+            }],
+        });
+    }
     let figure = Figure {
         title: format!(
             "{} at t = {} (exact shock radius {:.4})",
