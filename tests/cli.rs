@@ -102,7 +102,8 @@ fn verify_writes_the_work_precision_table() {
         2,
         "one row per resolution"
     );
-    assert!(dir.join("work-precision.svg").exists());
+    let svg = std::fs::read_to_string(dir.join("work-precision.svg")).unwrap();
+    common::assert_renders(&svg, "work-precision.svg");
 }
 
 /// Every verify run writes `index.html`: one page with the summary table, the work–precision
@@ -758,4 +759,22 @@ fn check_arrivals_flags_the_thesis_table() {
     let out = blastsph(&["check-arrivals", "/no/such/arrivals.csv"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("arrivals file"), "{}", stderr(&out));
+}
+
+/// The render check itself: a text element placed off its canvas is caught (where the machine
+/// has fonts to lay it out), and an SVG that does not parse is refused.
+#[test]
+fn the_render_check_catches_text_off_the_canvas_and_broken_svg() {
+    let on_canvas = r#"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100"><rect width="100%" height="100%" fill="white"/><line x1="0" y1="50" x2="200" y2="50" stroke="black"/><text x="10" y="60" font-family="sans-serif" font-size="12">fits</text></svg>"#;
+    common::assert_renders(on_canvas, "on canvas");
+    let off_canvas = on_canvas.replace(r#"x="10" y="60""#, r#"x="190" y="60""#);
+    let fonts_present = {
+        let mut db = resvg::usvg::fontdb::Database::new();
+        db.load_system_fonts();
+        !db.is_empty()
+    };
+    let caught = std::panic::catch_unwind(|| common::assert_renders(&off_canvas, "off canvas"));
+    assert_eq!(caught.is_err(), fonts_present);
+    let broken = std::panic::catch_unwind(|| common::assert_renders("<svg", "broken"));
+    assert!(broken.is_err());
 }

@@ -9,7 +9,9 @@ fn run(name: &str, overrides: &[(&str, &str)]) -> blastsph_verification::record:
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    problems::run(name, Level::Quick, &overrides, &|_| {}).expect("problem runs")
+    let output = problems::run(name, Level::Quick, &overrides, &|_| {}).expect("problem runs");
+    common::assert_renders(&output.figure.to_svg(), name);
+    output
 }
 
 /// Every check passed; and the record, to three significant digits and without its wall
