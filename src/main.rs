@@ -6,6 +6,7 @@ use blastsph_verification::impedance::{self, Drive};
 use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
+use blastsph_verification::scene::{self, Scene};
 use blastsph_verification::sedov::{geometry_named, SedovBlast};
 use blastsph_verification::{index, problems, report, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -56,6 +57,19 @@ enum Command {
         /// strain, plastic work and status 0 elastic / 1 plastic / 2 failed), for ParaView.
         #[arg(long)]
         vtk: bool,
+    },
+    /// Run a scene file (TOML; see `scenes/` and the README): gauge histories (CSV), per
+    /// material momentum and energy, particle snapshots (VTU with a .pvd index) and
+    /// scene.json, the summary written last.
+    Run {
+        /// The scene file.
+        scene: PathBuf,
+        /// Output folder (default: results/<scene file name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (default: all cores). Results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// The exact Sedov–Taylor blast: shock radius, post-shock state, similarity constant.
     Sedov {
@@ -277,6 +291,11 @@ fn main() -> ExitCode {
             }
             verify(problems, level, out, threads, set, vtk)
         }
+        Command::Run {
+            scene,
+            out,
+            threads,
+        } => run_scene(&scene, out, threads),
         Command::Sedov {
             geometry,
             gamma,
@@ -373,6 +392,79 @@ fn print_problem_list() {
     emit(&text);
 }
 
+/// Starts the worker pool with `threads` threads (default: one per core).
+fn set_threads(threads: Option<usize>) -> Result<(), VerifyError> {
+    let Some(n) = threads else {
+        return Ok(());
+    };
+    if n == 0 {
+        return Err(VerifyError::bad_value("--threads", n, "≥ 1"));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build_global()
+        .map_err(|e| {
+            VerifyError::bad_value(
+                "--threads",
+                format!("{n} ({e})"),
+                "a thread count the system can start",
+            )
+        })
+}
+
+/// Reads, checks and runs a scene file; Ok(false) when the run stopped early.
+fn run_scene(
+    path: &Path,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<bool, VerifyError> {
+    let text = std::fs::read_to_string(path).map_err(|source| VerifyError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
+    let scene = Scene::parse(&text)?;
+    scene.check_memory()?;
+    let out = out.unwrap_or_else(|| {
+        let stem = path
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        Path::new("results").join(stem)
+    });
+    report::ensure_writable(&out)?;
+    set_threads(threads)?;
+    let bar = ProgressBar::new(1000).with_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {percent}% ({elapsed} elapsed, ETA {eta})")
+            .expect("a valid template"),
+    );
+    bar.set_message(scene.name.clone());
+    let summary = scene::run(&scene, &out, &mut |fraction| {
+        bar.set_position((fraction * 1000.0) as u64)
+    })?;
+    bar.finish_and_clear();
+    println!(
+        "{}: {} particles, {} steps, {:.1} s wall, energy change {:.2e}; outputs in {}",
+        summary.scene,
+        summary.particles,
+        summary.steps,
+        summary.wall_s,
+        summary.energy_relative_change,
+        out.display()
+    );
+    for g in &summary.gauges {
+        println!(
+            "  gauge {:<16} ({}) peak pressure {:.4e} Pa, peak velocity {:.4e} m/s, peak von Mises {:.4e} Pa",
+            g.name, g.body, g.peak_pressure_pa, g.peak_velocity_m_s, g.peak_von_mises_pa
+        );
+    }
+    if let Some(diagnosis) = &summary.stopped {
+        println!(
+            "STOPPED at t = {:.4e} s: {diagnosis}",
+            summary.time_reached_s
+        );
+    }
+    Ok(summary.stopped.is_none())
+}
+
 /// Runs the problems; Ok(true) when every check passed.
 fn verify(
     names: Vec<String>,
@@ -397,21 +489,7 @@ fn verify(
         problems::preflight(name, level, &overrides)?;
     }
     report::ensure_writable(&out)?;
-    if let Some(n) = threads {
-        if n == 0 {
-            return Err(VerifyError::bad_value("--threads", n, "≥ 1"));
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .map_err(|e| {
-                VerifyError::bad_value(
-                    "--threads",
-                    format!("{n} ({e})"),
-                    "a thread count the system can start",
-                )
-            })?;
-    }
+    set_threads(threads)?;
     println!(
         "{:<22} {:>9} {:>7} {:>9}  {:<44} {:<20} result",
         "problem", "particles", "steps", "wall s", "main errors", "observed order"

@@ -778,3 +778,103 @@ fn the_render_check_catches_text_off_the_canvas_and_broken_svg() {
     let broken = std::panic::catch_unwind(|| common::assert_renders("<svg", "broken"));
     assert!(broken.is_err());
 }
+
+/// The shipped Taylor-bar scene, run through `blastsph run`, is the benchmark bar: its final
+/// length and footprint agree with the benchmark within the limits of the
+/// `taylor-bar-axisymmetric` problem's quick level (4 % and 8 %, a handful of rings across
+/// the radius); every output is there and the .pvd lists the snapshots written.
+#[test]
+fn the_shipped_taylor_bar_scene_reaches_the_benchmark_shape() {
+    use vtkio::model::{DataSet, IOBuffer};
+    let dir = scratch("scene-taylor-bar");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor-bar.toml");
+    let out = blastsph(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("scene.json")).unwrap()).unwrap();
+    assert!(summary["stopped"].is_null());
+    // the energy balance of the axisymmetric Taylor bar problem holds at ten times its measure
+    assert!(summary["energy_relative_change"].as_f64().unwrap() < 5e-4);
+    for gauge in ["impact-face", "rear-end"] {
+        let csv = std::fs::read_to_string(dir.join("gauges").join(format!("{gauge}.csv"))).unwrap();
+        assert!(csv.starts_with("time_s,pressure_pa,velocity_x_m_s"));
+        assert_eq!(
+            csv.lines().count() as u64,
+            summary["steps"].as_u64().unwrap() + 2
+        );
+    }
+    let pvd = std::fs::read_to_string(dir.join("snapshots.pvd")).unwrap();
+    let listed: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    assert_eq!(
+        listed.len(),
+        9,
+        "snapshots every 10 µs over 80 µs, the start included"
+    );
+    assert!(listed.iter().all(|f| dir.join(f).exists()));
+
+    let vtk = vtkio::Vtk::import(dir.join(listed[8])).expect("vtkio reads the last snapshot");
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid");
+    };
+    let piece = pieces[0].load_piece_data(None).expect("inline piece data");
+    let IOBuffer::F64(points) = piece.points else {
+        panic!("f64 points")
+    };
+    let spacing = 0.4e-3;
+    let (r, z): (Vec<f64>, Vec<f64>) = points.chunks(3).map(|p| (p[0], p[1])).unzip();
+    // measured as the problem measures: the highest particle and the bottom layer's widest,
+    // each plus half a spacing
+    let length = z.iter().fold(0.0_f64, |a, &b| a.max(b)) + 0.5 * spacing;
+    let footprint = r
+        .iter()
+        .zip(&z)
+        .filter(|(_, &z)| z < spacing)
+        .fold(0.0_f64, |a, (&r, _)| a.max(r))
+        + 0.5 * spacing;
+    assert!(
+        (length / 21.42e-3 - 1.0).abs() < 0.04,
+        "final length {length}"
+    );
+    assert!(
+        (footprint / 7.12e-3 - 1.0).abs() < 0.08,
+        "footprint radius {footprint}"
+    );
+}
+
+/// A broken scene exits 2 naming its line and writes nothing; so does an unwritable output
+/// folder.
+#[test]
+fn a_broken_scene_exits_2_by_name_and_writes_nothing() {
+    let dir = scratch("scene-broken");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor-bar.toml");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let broken = dir.join("broken.toml");
+    std::fs::write(&broken, text.replace("cu-taylor-bar", "unobtainium")).unwrap();
+    let out_dir = dir.join("out");
+    let out = blastsph(&[
+        "run",
+        broken.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = stderr(&out);
+    assert!(
+        message.contains("line 19") && message.contains("unknown material 'unobtainium'"),
+        "{message}"
+    );
+    assert!(!out_dir.exists());
+    let out = blastsph(&["run", scene.to_str().unwrap(), "--out", "/proc/forbidden"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("/proc/forbidden"));
+}

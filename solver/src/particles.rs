@@ -105,6 +105,10 @@ particle_store! {
         signal_speed: f64,
         /// Each particle's own viscosity α (Morris & Monaghan's switch); empty without it.
         viscosity_alpha: f64,
+        /// A constant acceleration from outside: the body force and support that hold the
+        /// initial state in equilibrium (see `InitialState::held_in_equilibrium`); empty
+        /// without one.
+        external_acceleration: Vector<D>,
     }
 }
 

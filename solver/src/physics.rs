@@ -789,7 +789,8 @@ pub struct RateTotals<const D: usize> {
     /// Σ_i m_i × the heat returned for the hourglass control's work (W; total-Lagrangian
     /// solids, see [`crate::total_lagrangian`]).
     pub hourglass_heating: f64,
-    /// The power leaving through transmitting boundaries (W, never negative).
+    /// The power leaving through transmitting boundaries (never negative) and as work against
+    /// external accelerations (W).
     pub transmitted_power: f64,
 }
 

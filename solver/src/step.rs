@@ -167,7 +167,8 @@ pub struct Simulation<const D: usize> {
     totals: RateTotals<D>,
     wall_impulse: Vector<D>,
     heating: ArtificialHeating,
-    /// The energy that left through transmitting boundaries since the start (J).
+    /// The energy that left through transmitting boundaries, or as work done against the
+    /// external accelerations, since the start (J).
     transmitted_energy: f64,
     times: PhaseTimes,
     /// Neighbour searches repeated because a grad-h root lay beyond the first search's reach.
@@ -178,6 +179,23 @@ pub struct Simulation<const D: usize> {
     reference: Option<ReferenceConfiguration<D>>,
 }
 
+/// What a scene adds to its particles' initial state beyond [`ParticleInit`].
+#[derive(Clone, Debug, Default)]
+pub struct InitialState<const D: usize> {
+    /// The programmed burn of a charge (one lighting time per particle).
+    pub burn: Option<ProgrammedBurn>,
+    /// The deviatoric stress of each particle (zero in fluids), e.g. a geostatic state.
+    pub deviatoric_stress: Option<Vec<Tensor<D>>>,
+    /// Hold the initial state in equilibrium: each particle takes, for the whole run, the
+    /// constant external acceleration −a_i(0) that cancels its initial acceleration. For soil
+    /// given its geostatic stress (σ_v = −ρ g d, σ_h = K0 σ_v) this is gravity inside the
+    /// ground plus the support its boundaries would give (the bottom's reaction, which a
+    /// transmitting side does not carry), so the ground starts at rest; a blast then moves it
+    /// against the same constant loads. The forces are booked as external: their impulse with
+    /// the walls', their work with the energy exchanged with the outside.
+    pub held_in_equilibrium: bool,
+}
+
 impl<const D: usize> Simulation<D> {
     /// Checks the input, then evaluates density, pressure and forces of the initial state.
     pub fn new(
@@ -186,7 +204,7 @@ impl<const D: usize> Simulation<D> {
         domain: Domain<D>,
         config: SimulationConfig,
     ) -> Result<Self, SolverError> {
-        Self::build(init, materials, domain, config, None)
+        Self::build(init, materials, domain, config, InitialState::default())
     }
 
     /// A scene with a detonating charge: as [`Simulation::new`], with the explosive's pressure
@@ -198,14 +216,57 @@ impl<const D: usize> Simulation<D> {
         config: SimulationConfig,
         burn: ProgrammedBurn,
     ) -> Result<Self, SolverError> {
-        if burn.lighting_time.len() != init.len() {
+        let state = InitialState {
+            burn: Some(burn),
+            ..InitialState::default()
+        };
+        Self::with_initial_state(init, materials, domain, config, state)
+    }
+
+    /// As [`Simulation::new`], with what `state` adds to the particles' initial state.
+    pub fn with_initial_state(
+        init: &[ParticleInit<D>],
+        materials: Vec<Material>,
+        domain: Domain<D>,
+        config: SimulationConfig,
+        state: InitialState<D>,
+    ) -> Result<Self, SolverError> {
+        let one_each = |what: &str, len: usize| {
+            if len == init.len() {
+                Ok(())
+            } else {
+                Err(SolverError::invalid(
+                    what,
+                    len,
+                    &format!("one per particle ({})", init.len()),
+                ))
+            }
+        };
+        if let Some(burn) = &state.burn {
+            one_each("lighting times", burn.lighting_time.len())?;
+        }
+        if state.held_in_equilibrium && config.formulation.is_total_lagrangian() {
             return Err(SolverError::invalid(
-                "lighting times",
-                burn.lighting_time.len(),
-                &format!("one per particle ({})", init.len()),
+                "held in equilibrium",
+                "a total-Lagrangian scene",
+                "Cartesian, axisymmetric or radial scenes (the bond pass has no external forces)",
             ));
         }
-        Self::build(init, materials, domain, config, Some(burn))
+        if let Some(stress) = &state.deviatoric_stress {
+            one_each("initial deviatoric stresses", stress.len())?;
+            let fluid = |k: usize| materials[init[k].material as usize].strength.is_none();
+            if let Some(k) = (0..init.len()).find(|&k| {
+                (fluid(k) && stress[k] != Tensor::<D>::zeros())
+                    || stress[k].iter().any(|v| !v.is_finite())
+            }) {
+                return Err(SolverError::invalid(
+                    &format!("initial deviatoric stress of particle {k}"),
+                    format!("{:?}", stress[k].as_slice()),
+                    "finite, and zero in a fluid",
+                ));
+            }
+        }
+        Self::build(init, materials, domain, config, state)
     }
 
     fn build(
@@ -213,7 +274,7 @@ impl<const D: usize> Simulation<D> {
         materials: Vec<Material>,
         domain: Domain<D>,
         config: SimulationConfig,
-        burn: Option<ProgrammedBurn>,
+        state: InitialState<D>,
     ) -> Result<Self, SolverError> {
         config.validate()?;
         let formulation = config.formulation;
@@ -290,7 +351,7 @@ impl<const D: usize> Simulation<D> {
             // every particle starts with the full viscosity, until its flow shows it calm
             particles.viscosity_alpha = vec![config.viscosity.alpha; init.len()];
         }
-        let mut burn = burn;
+        let mut burn = state.burn;
         if let Some(burn) = &mut burn {
             particles.burn_fraction = vec![0.0; init.len()];
             particles.lighting_time = std::mem::take(&mut burn.lighting_time);
@@ -319,9 +380,42 @@ impl<const D: usize> Simulation<D> {
             burn,
             reference,
         };
+        if let Some(stress) = state.deviatoric_stress {
+            if !sim.particles.deviatoric_stress.is_empty() {
+                sim.particles.deviatoric_stress[..init.len()].copy_from_slice(&stress);
+            }
+        }
         sim.evaluate_rates(0.0)?;
+        if state.held_in_equilibrium {
+            sim.hold_in_equilibrium();
+        }
         sim.check_health()?;
         Ok(sim)
+    }
+
+    /// Gives each real particle the constant external acceleration that cancels its initial
+    /// one, so that the initial state is an equilibrium (see
+    /// [`InitialState::held_in_equilibrium`]).
+    fn hold_in_equilibrium(&mut self) {
+        let p = &mut self.particles;
+        let n = p.n_real();
+        p.external_acceleration = p.acceleration[..n].iter().map(|a| -a).collect();
+        self.apply_external_accelerations();
+    }
+
+    /// Adds each particle's constant external acceleration; its force joins the walls' and its
+    /// power the energy exchanged with the outside.
+    fn apply_external_accelerations(&mut self) {
+        let p = &mut self.particles;
+        if p.external_acceleration.is_empty() {
+            return;
+        }
+        for i in 0..p.n_real() {
+            let a = p.external_acceleration[i];
+            p.acceleration[i] += a;
+            self.totals.wall_force += a * p.mass[i];
+            self.totals.transmitted_power -= p.mass[i] * a.dot(&p.velocity[i]);
+        }
     }
 
     pub fn particles(&self) -> &Particles<D> {
@@ -356,7 +450,8 @@ impl<const D: usize> Simulation<D> {
         self.wall_impulse
     }
 
-    /// The energy that has left through transmitting boundaries (J).
+    /// The energy that has left through transmitting boundaries, or as work done against the
+    /// external accelerations (J; negative where they did work on the particles).
     pub fn transmitted_energy(&self) -> f64 {
         self.transmitted_energy
     }
@@ -634,6 +729,7 @@ impl<const D: usize> Simulation<D> {
             self.evaluate_pair_rates(time);
         }
         self.apply_transmitting_boundaries();
+        self.apply_external_accelerations();
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
     }

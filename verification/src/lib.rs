@@ -19,6 +19,7 @@ pub mod record;
 pub mod report;
 pub mod riemann;
 pub mod scaled;
+pub mod scene;
 pub mod sedov;
 pub mod svg;
 pub mod vtk;
@@ -77,6 +78,12 @@ pub enum VerifyError {
         estimate_gib: f64,
         available_gib: f64,
         largest: usize,
+    },
+    #[error("scene file, line {line}: {key}: {message}")]
+    Scene {
+        line: usize,
+        key: String,
+        message: String,
     },
     #[error(transparent)]
     Solver(#[from] blastsph_solver::SolverError),

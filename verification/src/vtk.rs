@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 /// Elastic, plastic (on the yield surface) or failed (no shear strength left), as a number for
 /// the file: 0, 1, 2; fluids are 0.
-fn status_code<const D: usize>(sim: &Simulation<D>, i: usize) -> f64 {
+pub(crate) fn status_code<const D: usize>(sim: &Simulation<D>, i: usize) -> f64 {
     let p = sim.particles();
     let Some(strength) = sim.materials()[p.material_of(i)].strength else {
         return 0.0;

@@ -192,15 +192,21 @@ fn settings(params: &Params, burst: Burst, charge_kg: f64) -> Result<Settings, V
 }
 
 pub(super) fn viscosity(params: &Params) -> Result<ArtificialViscosity, VerifyError> {
+    let alpha_min = params.number("alpha_min", 0.0, ArtificialViscosity::default().alpha)?;
+    Ok(viscosity_switched_down_to(alpha_min))
+}
+
+/// The default viscosity with Morris & Monaghan's switch letting α fall to `alpha_min` away
+/// from shocks (no switch where `alpha_min` is the full α).
+pub(crate) fn viscosity_switched_down_to(alpha_min: f64) -> ArtificialViscosity {
     let viscosity = ArtificialViscosity::default();
-    let alpha_min = params.number("alpha_min", 0.0, viscosity.alpha)?;
-    Ok(ArtificialViscosity {
+    ArtificialViscosity {
         switch: (alpha_min < viscosity.alpha).then_some(ViscositySwitch {
             alpha_min,
             decay: ViscositySwitch::DECAY,
         }),
         ..viscosity
-    })
+    }
 }
 
 /// The first rezone, in charge transit times R_c/D_CJ (the burn is over by 1 + its ramp);

@@ -98,7 +98,7 @@ const END_MARGIN: f64 = 1.5;
 /// comment).
 const FAR_FIELD_SCALED_RANGE: f64 = 1.0;
 /// Poisson's ratio of the sand (see the module's comment).
-const POISSON: f64 = 0.22;
+pub const POISSON: f64 = 0.22;
 
 /// The sand's two models.
 #[derive(Clone, Copy, Debug, PartialEq)]

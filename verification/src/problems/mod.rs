@@ -17,6 +17,7 @@ mod thesis_arrivals;
 mod tnt_slab;
 mod transmitting_boundary;
 
+pub(crate) use airblast::viscosity_switched_down_to;
 pub use biaxial::biaxial_run;
 
 use crate::params::{ParamSpec, Params};

@@ -1,0 +1,569 @@
+//! A scene's particles and its run: each body filled with a lattice at its spacing, gauges
+//! attached to the particle nearest them, the simulation stepped to the end time with every
+//! gauge read after each step, particle snapshots at the output interval, and per material the
+//! momentum and energy.
+//!
+//! Outputs in the run's folder, each written atomically: `gauges/<name>.csv` (one row per
+//! step), `materials.csv` (momentum and energy per material at each snapshot time, or at a
+//! hundredth of the run without snapshots), `snapshots/<k>.vtu` with `snapshots.pvd` (ParaView
+//! plays the series), and last `scene.json`, the summary: a folder without it holds no
+//! finished run.
+
+use super::{contains, Body, Geometry, Scene};
+use crate::problems::viscosity_switched_down_to;
+use crate::record::Conservation;
+use crate::report::write_atomic;
+use crate::vtk::{status_code, Snapshot};
+use crate::VerifyError;
+use blastsph_solver::particles::ParticleInit;
+use blastsph_solver::strength::von_mises;
+use blastsph_solver::{
+    Boundary, Density, Domain, EnergyEquation, Formulation, KernelShape, ProgrammedBurn,
+    Simulation, SimulationConfig, SmoothingLength, Vector,
+};
+use serde::Serialize;
+use std::collections::{BTreeMap, HashMap};
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+/// What `scene.json` holds.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RunSummary {
+    pub scene: String,
+    pub geometry: String,
+    /// Particles per body.
+    pub bodies: BTreeMap<String, usize>,
+    pub particles: usize,
+    pub steps: u64,
+    pub end_time_s: f64,
+    /// The time reached: the end time, or where a stopped run stopped.
+    pub time_reached_s: f64,
+    pub wall_s: f64,
+    /// Why the run stopped early (a blow-up's diagnosis), or `None`.
+    pub stopped: Option<String>,
+    /// |ΔE|/E over the run, with the energy that left through transmitting sides counted.
+    pub energy_relative_change: f64,
+    pub gauges: Vec<GaugeSummary>,
+}
+
+/// A gauge's place, the particle it reads and its peaks.
+#[derive(Clone, Debug, Serialize)]
+pub struct GaugeSummary {
+    pub name: String,
+    pub body: String,
+    /// Where the particle it reads started.
+    pub particle_position_m: Vec<f64>,
+    pub peak_pressure_pa: f64,
+    pub peak_velocity_m_s: f64,
+    pub peak_von_mises_pa: f64,
+}
+
+/// Builds and runs `scene`, writing its outputs into `out` (see the module's comment);
+/// `progress` hears the fraction of the end time reached after each step. A scene the solver
+/// refuses is an error; a run that blows up ends early with its diagnosis in the summary.
+pub fn run(
+    scene: &Scene,
+    out: &Path,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunSummary, VerifyError> {
+    match scene.geometry.dimension() {
+        2 => run_in::<2>(scene, out, progress),
+        _ => run_in::<3>(scene, out, progress),
+    }
+}
+
+/// The particles, the bodies they belong to, and the programmed burn if there is a charge.
+struct Built<const D: usize> {
+    init: Vec<ParticleInit<D>>,
+    body_of: Vec<usize>,
+    burn: Option<ProgrammedBurn>,
+}
+
+/// The point lies in `body`: in its shape and in none of its holes.
+fn in_body(body: &Body, x: &[f64]) -> bool {
+    contains(&body.shape, x) && !body.subtract.iter().any(|hole| contains(hole, x))
+}
+
+/// Lattice points (k + ½)Δ of `body`'s spacing inside it and inside the domain.
+fn lattice<const D: usize>(scene: &Scene, body: &Body) -> Vec<Vector<D>> {
+    let (lo, hi) = scene.bounds(&body.shape);
+    let dx = body.spacing;
+    let first: Vec<i64> = (0..D).map(|a| (lo[a] / dx - 0.5).ceil() as i64).collect();
+    let last: Vec<i64> = (0..D).map(|a| (hi[a] / dx - 0.5).ceil() as i64).collect();
+    let mut points = Vec::new();
+    if (0..D).any(|a| last[a] <= first[a]) {
+        return points;
+    }
+    let mut k = first.clone();
+    loop {
+        let x = Vector::<D>::from_fn(|a, _| (k[a] as f64 + 0.5) * dx);
+        if in_body(body, x.as_slice()) {
+            points.push(x);
+        }
+        // the next index, the first axis fastest
+        let mut a = 0;
+        loop {
+            k[a] += 1;
+            if k[a] < last[a] {
+                break;
+            }
+            k[a] = first[a];
+            a += 1;
+            if a == D {
+                return points;
+            }
+        }
+    }
+}
+
+fn build<const D: usize>(scene: &Scene) -> Result<Built<D>, VerifyError> {
+    let mut init = Vec::new();
+    let mut body_of = Vec::new();
+    let mut lighting = Vec::new();
+    let mut burn_speed: Option<f64> = None;
+    for (b, body) in scene.bodies.iter().enumerate() {
+        let material = &scene.materials[body.material];
+        let (rho, e) = material.ambient;
+        let dx = body.spacing;
+        let points = lattice::<D>(scene, body);
+        if points.is_empty() {
+            return Err(VerifyError::Scene {
+                line: body.line,
+                key: "body.shape".into(),
+                message: format!(
+                    "body '{}' holds no particle at spacing {dx} m inside the domain",
+                    body.name
+                ),
+            });
+        }
+        if let Some(speed) = material.detonation_speed {
+            match burn_speed {
+                Some(s) if s != speed => {
+                    return Err(VerifyError::Scene {
+                        line: body.line,
+                        key: "body.material".into(),
+                        message: "every charge of a scene is the same explosive".into(),
+                    })
+                }
+                _ => burn_speed = Some(speed),
+            }
+        }
+        for x in points {
+            if let Some(other) = scene
+                .bodies
+                .iter()
+                .take(b)
+                .find(|other| in_body(other, x.as_slice()))
+            {
+                return Err(VerifyError::Scene {
+                    line: body.line,
+                    key: "body.shape".into(),
+                    message: format!(
+                        "body '{}' overlaps body '{}' at {:?}: subtract one from the other",
+                        body.name,
+                        other.name,
+                        x.as_slice()
+                    ),
+                });
+            }
+            // a ring's mass in an axisymmetric scene: ρ 2π r Δ²
+            let volume = match scene.geometry {
+                Geometry::Axisymmetric => 2.0 * PI * x[0] * dx * dx,
+                Geometry::PlaneStrain | Geometry::ThreeD => dx.powi(D as i32),
+            };
+            let lit = if material.detonation_speed.is_some() {
+                body.detonation_points
+                    .iter()
+                    .map(|p| (x - Vector::<D>::from_column_slice(p)).norm())
+                    .fold(f64::INFINITY, f64::min)
+                    / material.detonation_speed.unwrap_or(1.0)
+            } else {
+                f64::NEG_INFINITY
+            };
+            lighting.push(lit);
+            init.push(ParticleInit {
+                position: x,
+                velocity: Vector::<D>::from_column_slice(&body.velocity),
+                mass: rho * volume,
+                smoothing_length: scene.eta * dx,
+                density: rho,
+                internal_energy: e,
+                material: body.material as u16,
+            });
+            body_of.push(b);
+        }
+    }
+    check_spacing_ratios(scene, &init, &body_of)?;
+    let burn = burn_speed.map(|speed| ProgrammedBurn {
+        lighting_time: lighting,
+        speed,
+        ramp_lengths: blastsph_solver::burn::DEFAULT_RAMP_LENGTHS,
+    });
+    Ok(Built {
+        init,
+        body_of,
+        burn,
+    })
+}
+
+/// The largest ratio of the spacings of two bodies in contact: a kernel spanning a jump of
+/// more than this sees too few particles on the fine side, and the coarse side's
+/// particles leave gaps the fine ones fall into.
+pub const MAX_SPACING_RATIO: f64 = 2.0;
+
+/// Refuses two bodies in contact (particles nearer than the sum of their spacings) whose
+/// spacings differ by more than [`MAX_SPACING_RATIO`].
+fn check_spacing_ratios<const D: usize>(
+    scene: &Scene,
+    init: &[ParticleInit<D>],
+    body_of: &[usize],
+) -> Result<(), VerifyError> {
+    let bodies = &scene.bodies;
+    for (a, fine) in bodies.iter().enumerate() {
+        for (b, coarse) in bodies.iter().enumerate() {
+            if coarse.spacing <= MAX_SPACING_RATIO * fine.spacing {
+                continue;
+            }
+            let reach = fine.spacing + coarse.spacing;
+            let cell = |x: &Vector<D>| -> [i64; 3] {
+                std::array::from_fn(|k| {
+                    if k < D {
+                        (x[k] / reach).floor() as i64
+                    } else {
+                        0
+                    }
+                })
+            };
+            let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+            for i in (0..init.len()).filter(|&i| body_of[i] == b) {
+                grid.entry(cell(&init[i].position)).or_default().push(i);
+            }
+            let touching = (0..init.len()).filter(|&i| body_of[i] == a).find(|&i| {
+                let x = &init[i].position;
+                let c = cell(x);
+                let reach_of = |k: usize| if k < D { -1..=1 } else { 0..=0 };
+                reach_of(0).any(|dx| {
+                    reach_of(1).any(|dy| {
+                        reach_of(2).any(|dz| {
+                            grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz])
+                                .is_some_and(|list| {
+                                    list.iter().any(|&j| (init[j].position - x).norm() < reach)
+                                })
+                        })
+                    })
+                })
+            });
+            if let Some(i) = touching {
+                return Err(VerifyError::Scene {
+                    line: coarse.line,
+                    key: "body.spacing".into(),
+                    message: format!(
+                        "bodies '{}' ({} m) and '{}' ({} m) touch near {:?} with spacings {:.2} \
+                         times apart: at most {MAX_SPACING_RATIO}, or a body of intermediate \
+                         spacing between them",
+                        coarse.name,
+                        coarse.spacing,
+                        fine.name,
+                        fine.spacing,
+                        init[i].position.as_slice(),
+                        coarse.spacing / fine.spacing
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+fn config(scene: &Scene) -> SimulationConfig {
+    let smoothing = SmoothingLength::FollowDensityFloored { eta: scene.eta };
+    let finest = scene
+        .bodies
+        .iter()
+        .map(|b| b.spacing)
+        .fold(f64::INFINITY, f64::min);
+    SimulationConfig {
+        // continuity density: several materials of very different densities side by side
+        formulation: match scene.geometry {
+            Geometry::Axisymmetric => Formulation::Axisymmetric(smoothing),
+            Geometry::PlaneStrain | Geometry::ThreeD => {
+                Formulation::Cartesian(Density::Continuity(smoothing))
+            }
+        },
+        kernel: KernelShape::CubicSpline,
+        viscosity: viscosity_switched_down_to(scene.alpha_min),
+        energy: EnergyEquation::OwnPressure,
+        cfl: scene.cfl,
+        // a step below 1e-9 of the time a 10 km/s signal takes across the finest spacing
+        min_time_step: 1e-9 * finest / 1e4,
+    }
+}
+
+/// One gauge: the particle it reads (by id) and what it read after each step.
+struct GaugeHistory {
+    name: String,
+    body: usize,
+    id: u32,
+    start: Vec<f64>,
+    rows: Vec<Vec<f64>>,
+}
+
+/// The particle whose id is `id`, looked up again only when reordering moved it.
+fn index_of<const D: usize>(sim: &Simulation<D>, id: u32, hint: &mut usize) -> usize {
+    let ids = &sim.particles().id;
+    if ids.get(*hint) != Some(&id) {
+        *hint = ids
+            .iter()
+            .position(|&k| k == id)
+            .expect("real particles keep their ids");
+    }
+    *hint
+}
+
+fn gauge_row<const D: usize>(sim: &Simulation<D>, i: usize, start: &[f64]) -> Vec<f64> {
+    let p = sim.particles();
+    let mut row = vec![sim.time(), p.pressure[i]];
+    row.extend(p.velocity[i].iter());
+    row.extend((0..D).map(|a| p.position[i][a] - start[a]));
+    let stressed = !p.deviatoric_stress.is_empty();
+    row.push(if stressed {
+        von_mises(&p.deviatoric_stress[i])
+    } else {
+        0.0
+    });
+    row.push(if stressed { p.plastic_strain[i] } else { 0.0 });
+    row.push(p.density[i]);
+    row.push(status_code(sim, i));
+    row
+}
+
+fn gauge_columns(d: usize) -> Vec<String> {
+    let axes = ["x", "y", "z"];
+    let mut columns = vec!["time_s".to_string(), "pressure_pa".into()];
+    columns.extend(axes[..d].iter().map(|a| format!("velocity_{a}_m_s")));
+    columns.extend(axes[..d].iter().map(|a| format!("displacement_{a}_m")));
+    columns.extend(["von_mises_pa", "plastic_strain", "density_kg_m3", "status"].map(String::from));
+    columns
+}
+
+fn csv(columns: &[String], rows: &[Vec<f64>]) -> Vec<u8> {
+    let mut s = columns.join(",");
+    s.push('\n');
+    for row in rows {
+        let cells: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
+        s.push_str(&cells.join(","));
+        s.push('\n');
+    }
+    s.into_bytes()
+}
+
+/// Per material: x, y (, z) momentum and kinetic plus internal energy.
+fn material_ledger<const D: usize>(sim: &Simulation<D>, materials: usize) -> Vec<f64> {
+    let p = sim.particles();
+    let mut sums = vec![0.0; materials * (D + 1)];
+    for i in 0..p.n_real() {
+        let k = p.material_of(i) * (D + 1);
+        for a in 0..D {
+            sums[k + a] += p.mass[i] * p.velocity[i][a];
+        }
+        sums[k + D] += p.mass[i] * (0.5 * p.velocity[i].norm_squared() + p.internal_energy[i]);
+    }
+    let mut row = vec![sim.time()];
+    row.extend(sums);
+    row
+}
+
+fn run_in<const D: usize>(
+    scene: &Scene,
+    out: &Path,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunSummary, VerifyError> {
+    let io = |path: &Path| {
+        let path = path.display().to_string();
+        move |source| VerifyError::Io { path, source }
+    };
+    let summary_path = out.join("scene.json");
+    // a summary left by an earlier run must not stand beside this run's partial outputs
+    if summary_path.exists() {
+        std::fs::remove_file(&summary_path).map_err(io(&summary_path))?;
+    }
+    let built = build::<D>(scene)?;
+    let mut gauges = Vec::new();
+    for g in &scene.gauges {
+        let body = scene
+            .bodies
+            .iter()
+            .position(|b| in_body(b, &g.position))
+            .ok_or_else(|| VerifyError::Scene {
+                line: g.line,
+                key: "gauge.position".into(),
+                message: format!("gauge '{}' at {:?} lies in no body", g.name, g.position),
+            })?;
+        let x = Vector::<D>::from_column_slice(&g.position);
+        let nearest = (0..built.init.len())
+            .filter(|&i| built.body_of[i] == body)
+            .min_by(|&i, &j| {
+                let di = (built.init[i].position - x).norm();
+                let dj = (built.init[j].position - x).norm();
+                di.total_cmp(&dj)
+            })
+            .expect("a body holds particles");
+        gauges.push(GaugeHistory {
+            name: g.name.clone(),
+            body,
+            id: nearest as u32,
+            start: built.init[nearest].position.as_slice().to_vec(),
+            rows: Vec::new(),
+        });
+    }
+
+    let lower: [Boundary; D] = std::array::from_fn(|a| scene.sides[a].0);
+    let upper: [Boundary; D] = std::array::from_fn(|a| scene.sides[a].1);
+    let domain = Domain::with_sides(
+        Vector::<D>::from_column_slice(&scene.lo),
+        Vector::<D>::from_column_slice(&scene.hi),
+        lower,
+        upper,
+    )?;
+    let materials = scene
+        .materials
+        .iter()
+        .map(|m| m.material())
+        .collect::<Result<Vec<_>, _>>()?;
+    let config = config(scene);
+    let started = Instant::now();
+    let mut sim = match built.burn {
+        Some(burn) => {
+            Simulation::with_programmed_burn(&built.init, materials, domain, config, burn)?
+        }
+        None => Simulation::new(&built.init, materials, domain, config)?,
+    };
+    let conservation = Conservation::open(&sim);
+
+    let snapshots = out.join("snapshots");
+    for dir in [out.join("gauges"), snapshots.clone()] {
+        std::fs::create_dir_all(&dir).map_err(io(&dir))?;
+    }
+    let ledger_interval = scene.output_interval.unwrap_or(scene.end_time / 100.0);
+    let mut ledger = vec![material_ledger(&sim, scene.materials.len())];
+    let mut next_ledger = ledger_interval;
+    let mut written: Vec<(f64, String)> = Vec::new();
+    let write_snapshot = |sim: &Simulation<D>, written: &mut Vec<(f64, String)>| {
+        let name = format!("{}.vtu", written.len());
+        let path = snapshots.join(&name);
+        write_atomic(&path, Snapshot::of(sim).to_vtu().as_bytes())?;
+        written.push((sim.time(), name));
+        Ok::<(), VerifyError>(())
+    };
+    if scene.output_interval.is_some() {
+        write_snapshot(&sim, &mut written)?;
+    }
+    let mut hints = vec![0usize; gauges.len()];
+    for (g, hint) in gauges.iter_mut().zip(&mut hints) {
+        let i = index_of(&sim, g.id, hint);
+        g.rows.push(gauge_row(&sim, i, &g.start));
+    }
+
+    let mut stopped = None;
+    while sim.time() < scene.end_time {
+        let target = next_ledger.min(scene.end_time);
+        if let Err(diagnosis) = sim.step_toward(target) {
+            stopped = Some(diagnosis.to_string());
+            break;
+        }
+        for (g, hint) in gauges.iter_mut().zip(&mut hints) {
+            let i = index_of(&sim, g.id, hint);
+            g.rows.push(gauge_row(&sim, i, &g.start));
+        }
+        if sim.time() >= target {
+            ledger.push(material_ledger(&sim, scene.materials.len()));
+            next_ledger += ledger_interval;
+            if scene.output_interval.is_some() {
+                write_snapshot(&sim, &mut written)?;
+            }
+        }
+        progress(sim.time() / scene.end_time);
+    }
+    let wall_s = started.elapsed().as_secs_f64();
+
+    let columns = gauge_columns(D);
+    for g in &gauges {
+        write_atomic(
+            &out.join("gauges").join(format!("{}.csv", g.name)),
+            &csv(&columns, &g.rows),
+        )?;
+    }
+    let mut ledger_columns = vec!["time_s".to_string()];
+    for m in &scene.materials {
+        ledger_columns
+            .extend((0..D).map(|a| format!("{}_momentum_{}_kg_m_s", m.name, ["x", "y", "z"][a])));
+        ledger_columns.push(format!("{}_energy_j", m.name));
+    }
+    write_atomic(&out.join("materials.csv"), &csv(&ledger_columns, &ledger))?;
+    if !written.is_empty() {
+        let mut pvd = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
+        );
+        for (time, name) in &written {
+            let _ = writeln!(
+                pvd,
+                "<DataSet timestep=\"{time:e}\" file=\"snapshots/{name}\"/>"
+            );
+        }
+        pvd.push_str("</Collection>\n</VTKFile>\n");
+        write_atomic(&out.join("snapshots.pvd"), pvd.as_bytes())?;
+    }
+
+    let mut metrics = BTreeMap::new();
+    conservation.close(&sim, &mut metrics);
+    let mut bodies = BTreeMap::new();
+    for (b, body) in scene.bodies.iter().enumerate() {
+        bodies.insert(
+            body.name.clone(),
+            built.body_of.iter().filter(|&&k| k == b).count(),
+        );
+    }
+    let peak = |rows: &[Vec<f64>], column: usize, magnitude: bool| {
+        rows.iter()
+            .map(|r| {
+                if magnitude {
+                    r[column..column + D]
+                        .iter()
+                        .map(|v| v * v)
+                        .sum::<f64>()
+                        .sqrt()
+                } else {
+                    r[column]
+                }
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let summary = RunSummary {
+        scene: scene.name.clone(),
+        geometry: format!("{:?}", scene.geometry),
+        bodies,
+        particles: built.init.len(),
+        steps: sim.steps(),
+        end_time_s: scene.end_time,
+        time_reached_s: sim.time(),
+        wall_s,
+        stopped,
+        energy_relative_change: metrics["energy_relative_change"],
+        gauges: gauges
+            .iter()
+            .map(|g| GaugeSummary {
+                name: g.name.clone(),
+                body: scene.bodies[g.body].name.clone(),
+                particle_position_m: g.start.clone(),
+                peak_pressure_pa: peak(&g.rows, 1, false),
+                peak_velocity_m_s: peak(&g.rows, 2, true),
+                peak_von_mises_pa: peak(&g.rows, 2 + 2 * D, false),
+            })
+            .collect(),
+    };
+    let json = serde_json::to_vec_pretty(&summary).expect("the summary serialises");
+    write_atomic(&summary_path, &json)?;
+    Ok(summary)
+}

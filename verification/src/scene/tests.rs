@@ -1,0 +1,319 @@
+use super::*;
+use proptest::prelude::*;
+
+/// A small valid plane-strain scene: sand with a lined hole, a charge on the surface, gauges.
+const VALID: &str = r#"
+[scene]
+name = "small"
+geometry = "plane-strain"
+end_time = 1e-4
+
+[domain]
+min = [-4.0, -4.0]
+max = [4.0, 1.0]
+sides = { x_min = "transmitting", x_max = "transmitting", y_min = "wall", y_max = "open" }
+
+[[material]]
+name = "sand"
+library = "dry-sand"
+drucker_prager = { cohesion = 0.0, friction_angle = 30.0 }
+
+[[material]]
+name = "lining"
+library = "concrete"
+von_mises = { yield = 30e6 }
+
+[[body]]
+name = "soil"
+material = "sand"
+spacing = 0.25
+shape = { kind = "layer", bottom = -4.0, top = 0.0 }
+subtract = ["lining", { kind = "sphere", centre = [0.0, -2.0], radius = 0.5 }]
+
+[[body]]
+name = "lining"
+material = "lining"
+spacing = 0.125
+shape = { kind = "annulus", centre = [0.0, -2.0], inner_radius = 0.5, outer_radius = 0.75 }
+
+[[body]]
+name = "charge"
+material = "tnt"
+spacing = 0.125
+shape = { kind = "hemisphere", centre = [0.0, 0.0], radius = 0.375 }
+detonation_points = [[0.0, 0.0]]
+
+[[gauge]]
+name = "crown"
+position = [0.0, -1.3]
+"#;
+
+fn error_of(text: &str) -> (usize, String, String) {
+    match Scene::parse(text) {
+        Err(VerifyError::Scene { line, key, message }) => (line, key, message),
+        other => panic!("expected a scene error, got {other:?}"),
+    }
+}
+
+/// The line of `VALID` (1-based) that starts with `start`.
+fn line_starting(start: &str) -> usize {
+    VALID
+        .lines()
+        .position(|l| l.starts_with(start))
+        .expect("the line exists")
+        + 1
+}
+
+#[test]
+fn a_valid_scene_reads_with_its_materials_bodies_and_holes() {
+    let scene = Scene::parse(VALID).expect("the scene is valid");
+    assert_eq!(scene.geometry, Geometry::PlaneStrain);
+    assert_eq!(scene.bodies.len(), 3);
+    let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["sand", "lining", "tnt"]);
+    assert!(scene.materials[0].strength.is_some() && scene.materials[2].strength.is_none());
+    assert_eq!(scene.materials[2].detonation_speed, Some(6930.0));
+    // the soil leaves out the lining (by name) and the tunnel's inside (by shape)
+    assert_eq!(scene.bodies[0].subtract.len(), 2);
+    assert!(!in_any_hole(&scene.bodies[0], &[0.0, -2.8]));
+    assert!(in_any_hole(&scene.bodies[0], &[0.0, -2.7]));
+    assert!(in_any_hole(&scene.bodies[0], &[0.0, -2.0]));
+}
+
+fn in_any_hole(body: &Body, x: &[f64]) -> bool {
+    body.subtract.iter().any(|hole| contains(hole, x))
+}
+
+#[test]
+fn a_charge_given_by_mass_gets_the_radius_of_that_mass() {
+    let text = VALID
+        .replace("plane-strain", "3d")
+        .replace("[-4.0, -4.0]", "[-4.0, -4.0, -4.0]")
+        .replace("max = [4.0, 1.0]", "max = [4.0, 4.0, 1.0]")
+        .replace(
+            "y_max = \"open\"",
+            "y_max = \"wall\", z_min = \"wall\", z_max = \"open\"",
+        )
+        .replace("[0.0, -2.0]", "[0.0, 0.0, -2.0]")
+        .replace("[0.0, -1.3]", "[0.0, 0.0, -1.3]")
+        .replace(
+            "centre = [0.0, 0.0], radius = 0.375",
+            "centre = [0.0, 0.0, 0.0], mass = 100.0",
+        )
+        .replace("[[0.0, 0.0]]", "[[0.0, 0.0, 0.0]]");
+    let scene = Scene::parse(&text).expect("the 3D scene is valid");
+    let Shape::Hemisphere {
+        radius: Some(r), ..
+    } = scene.bodies[2].shape
+    else {
+        panic!("a hemisphere")
+    };
+    // half a sphere of 2W at TNT's 1630 kg/m³: (3·200/(4π·1630))^(1/3)
+    let expected = (3.0 * 200.0 / (4.0 * std::f64::consts::PI * 1630.0)).cbrt();
+    approx::assert_relative_eq!(r, expected, max_relative = 1e-12);
+}
+
+#[test]
+fn an_unknown_material_is_named_with_its_line_and_the_choices() {
+    let (line, key, message) =
+        error_of(&VALID.replace("material = \"sand\"", "material = \"sandd\""));
+    assert_eq!(line, line_starting("material = \"sand"));
+    assert_eq!(key, "body.material");
+    assert!(
+        message.contains("sandd") && message.contains("dry-sand"),
+        "{message}"
+    );
+}
+
+#[test]
+fn an_unknown_key_is_named_with_its_line() {
+    let text = VALID.replace("spacing = 0.25", "spacing = 0.25\ndensity = 3.0");
+    let (line, _, message) = error_of(&text);
+    assert_eq!(line, line_starting("spacing = 0.25") + 1);
+    assert!(message.contains("unknown field `density`"), "{message}");
+}
+
+#[test]
+fn a_body_outside_the_domain_is_refused() {
+    // above the open top (across the bottom, a wall, a body may reach: its mirror stands in)
+    let text = VALID.replace("bottom = -4.0, top = 0.0", "bottom = -6.0, top = 2.0");
+    let (line, key, message) = error_of(&text);
+    assert_eq!(
+        (line, key.as_str()),
+        (line_starting("name = \"soil\"") - 1, "body.shape")
+    );
+    assert!(message.contains("beyond the domain"), "{message}");
+}
+
+#[test]
+fn a_non_positive_spacing_is_refused_with_the_allowed_range() {
+    let (line, key, message) = error_of(&VALID.replace("spacing = 0.25", "spacing = 0.0"));
+    assert_eq!(
+        (line, key.as_str()),
+        (line_starting("spacing = 0.25"), "body.spacing")
+    );
+    assert!(message.contains("≤ body.spacing ≤"), "{message}");
+}
+
+#[test]
+fn a_truncated_file_is_refused() {
+    let cut = VALID.find("[[body]]").expect("a body") + 12;
+    let (line, key, _) = error_of(&VALID[..cut]);
+    assert_eq!(key, "file");
+    assert!(line > 0);
+}
+
+#[test]
+fn an_explosive_needs_detonation_points_and_only_an_explosive_has_them() {
+    let (_, key, _) = error_of(&VALID.replace("detonation_points = [[0.0, 0.0]]", ""));
+    assert_eq!(key, "body.detonation_points");
+    let text = VALID.replace(
+        "shape = { kind = \"layer\"",
+        "detonation_points = [[0.0, 0.0]]\nshape = { kind = \"layer\"",
+    );
+    let (_, key, message) = error_of(&text);
+    assert_eq!(key, "body.detonation_points");
+    assert!(message.contains("not one"), "{message}");
+}
+
+#[test]
+fn an_axisymmetric_scene_needs_its_axis_and_spheres_on_it() {
+    let text = VALID.replace("plane-strain", "axisymmetric");
+    let (_, key, _) = error_of(&text);
+    assert_eq!(key, "domain.sides.x_min");
+    let text = r#"
+[scene]
+name = "off-axis"
+geometry = "axisymmetric"
+end_time = 1e-4
+[domain]
+min = [0.0, 0.0]
+max = [2.0, 2.0]
+sides = { x_min = "wall", x_max = "open", y_min = "open", y_max = "open" }
+[[body]]
+name = "ball"
+material = "air"
+spacing = 0.1
+shape = { kind = "sphere", centre = [1.0, 1.0], radius = 0.5 }
+"#;
+    let (_, _, message) = error_of(text);
+    assert!(
+        message.contains("torus") || message.contains("on the axis"),
+        "{message}"
+    );
+}
+
+/// Builds and runs a scene for a few steps; `Err` as the CLI would report it (exit 2).
+fn run_briefly(text: &str) -> Result<RunSummary, VerifyError> {
+    let mut scene = Scene::parse(text)?;
+    scene.check_memory()?;
+    if scene.particle_estimate() > 2e4 {
+        // a valid scene too large for a unit test: it would run
+        return Ok(RunSummary::default());
+    }
+    scene.end_time = scene.end_time.min(2e-6);
+    scene.output_interval = None;
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let out = std::env::temp_dir().join(format!("blastsph-scene-{}-{k}", std::process::id()));
+    let result = run(&scene, &out, &mut |_| {});
+    let _ = std::fs::remove_dir_all(&out);
+    result
+}
+
+#[test]
+fn overlapping_bodies_and_a_gauge_in_no_body_are_refused_before_the_run() {
+    // the soil without its holes overlaps the lining
+    let text = VALID.replace(
+        "subtract = [\"lining\", { kind = \"sphere\", centre = [0.0, -2.0], radius = 0.5 }]",
+        "",
+    );
+    let Err(VerifyError::Scene { key, message, .. }) = run_briefly(&text) else {
+        panic!("overlap accepted")
+    };
+    assert_eq!(key, "body.shape");
+    assert!(message.contains("overlaps"), "{message}");
+    // in the tunnel
+    let text = VALID.replace("position = [0.0, -1.3]", "position = [0.0, -2.0]");
+    let Err(VerifyError::Scene { key, message, .. }) = run_briefly(&text) else {
+        panic!("a gauge in the void accepted")
+    };
+    assert_eq!(key, "gauge.position");
+    assert!(message.contains("no body"), "{message}");
+}
+
+#[test]
+fn the_valid_scene_runs_and_its_gauge_reads_the_lining() {
+    let summary = run_briefly(VALID).expect("the scene runs");
+    assert!(summary.stopped.is_none(), "{:?}", summary.stopped);
+    assert_eq!(summary.gauges[0].body, "lining");
+    assert!(summary.steps > 0);
+}
+
+/// Small edits of a valid scene: a number replaced, a line dropped or doubled, the file cut.
+fn mutated(seed: (usize, usize, u8)) -> String {
+    let (at, pick, kind) = seed;
+    let lines: Vec<&str> = VALID.lines().collect();
+    let k = at % lines.len();
+    let numbers = [
+        "0", "-1", "1e30", "-0.0", "nan", "inf", "3", "1e-9", "\"x\"", "[]",
+    ];
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    match kind % 4 {
+        0 => {
+            // the first number on line k replaced
+            if let Some(start) = out[k].find(|c: char| c.is_ascii_digit()) {
+                let end = out[k][start..]
+                    .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == 'e' || c == '-'))
+                    .map_or(out[k].len(), |e| start + e);
+                out[k].replace_range(start..end, numbers[pick % numbers.len()]);
+            }
+        }
+        1 => {
+            out.remove(k);
+        }
+        2 => {
+            let copy = out[k].clone();
+            out.insert(k, copy);
+        }
+        _ => {
+            let text = out.join("\n");
+            let cut = pick % text.len();
+            let cut = (0..=cut)
+                .rev()
+                .find(|&c| text.is_char_boundary(c))
+                .unwrap_or(0);
+            return text[..cut].to_string();
+        }
+    }
+    out.join("\n")
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    /// A mutated scene either runs or is refused with a scene or value error; never a panic.
+    #[test]
+    fn a_mutated_scene_runs_or_is_refused_by_name(
+        at in 0usize..100, pick in 0usize..10_000, kind in 0u8..4
+    ) {
+        let text = mutated((at, pick, kind));
+        match run_briefly(&text) {
+            Ok(_) => {}
+            Err(VerifyError::Scene { .. } | VerifyError::BadValue { .. } | VerifyError::Solver(_)) => {}
+            Err(other) => prop_assert!(false, "unexpected error kind: {other}"),
+        }
+    }
+}
+
+#[test]
+fn bodies_in_contact_may_not_jump_in_spacing_by_more_than_two() {
+    let text = VALID.replace("spacing = 0.25", "spacing = 0.3");
+    let Err(VerifyError::Scene { key, message, .. }) = run_briefly(&text) else {
+        panic!("a spacing jump of 2.4 accepted")
+    };
+    assert_eq!(key, "body.spacing");
+    assert!(
+        message.contains("'soil'") && message.contains("touch"),
+        "{message}"
+    );
+}
