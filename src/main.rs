@@ -441,15 +441,24 @@ fn run_scene(
         bar.set_position((fraction * 1000.0) as u64)
     })?;
     bar.finish_and_clear();
+    let energy = match summary.energy_relative_change {
+        Some(relative) => format!("{relative:.2e} of the initial energy"),
+        None => format!("{:.3e} J", summary.energy_change_j),
+    };
     println!(
-        "{}: {} particles, {} steps, {:.1} s wall, energy change {:.2e}; outputs in {}",
+        "{}: {} particles, {} steps, {:.1} s wall, energy change {energy}; outputs in {}",
         summary.scene,
         summary.particles,
         summary.steps,
         summary.wall_s,
-        summary.energy_relative_change,
         out.display()
     );
+    if let Some(balance) = &summary.gravity_balance {
+        println!(
+            "  geostatic state held by external accelerations within {:.2} % (mean) of g inside the bodies",
+            100.0 * balance.interior_mean_departure
+        );
+    }
     for g in &summary.gauges {
         println!(
             "  gauge {:<16} ({}) peak pressure {:.4e} Pa, peak velocity {:.4e} m/s, peak von Mises {:.4e} Pa",

@@ -192,7 +192,10 @@ pub struct InitialState<const D: usize> {
     /// ground plus the support its boundaries would give (the bottom's reaction, which a
     /// transmitting side does not carry), so the ground starts at rest; a blast then moves it
     /// against the same constant loads. The forces are booked as external: their impulse with
-    /// the walls', their work with the energy exchanged with the outside.
+    /// the walls', their work with the energy exchanged with the outside. The state is held
+    /// where, at rest, nothing but the forces could change: continuity density with h fixed or
+    /// following it (a summation density with h following it still moves h after the first
+    /// evaluation on a disordered lattice).
     pub held_in_equilibrium: bool,
 }
 

@@ -3,8 +3,8 @@
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    Boundary, Density, Domain, Formulation, IdealGas, Material, Simulation, SimulationConfig,
-    SmoothingLength, SolverError, Vector,
+    Boundary, Density, Domain, Formulation, IdealGas, InitialState, Material, Simulation,
+    SimulationConfig, SmoothingLength, SolverError, Vector,
 };
 
 /// A deterministic pseudo-random number in [−1, 1) for particle k (a hash, no generator state).
@@ -16,13 +16,15 @@ fn noise(k: usize, salt: u64) -> f64 {
 }
 
 /// n^D particles on a lattice in the unit box, each displaced by up to `jitter` spacings at
-/// random, with velocity and pressure from `state(k, x)`; ρ = 1.
+/// random, with velocity and pressure from `state(k, x)`; ρ = 1; `held` in equilibrium (see
+/// `InitialState::held_in_equilibrium`) or not.
 fn lattice_box<const D: usize>(
     n: usize,
     jitter: f64,
     state: impl Fn(usize, &Vector<D>) -> (Vector<D>, f64),
     boundary: Boundary,
     config: SimulationConfig,
+    held: bool,
 ) -> Simulation<D> {
     let dx = 1.0 / n as f64;
     let gas = IdealGas::new(1.4).unwrap();
@@ -45,7 +47,18 @@ fn lattice_box<const D: usize>(
         })
         .collect();
     let domain = Domain::new(Vector::zeros(), Vector::repeat(1.0), [boundary; D]);
-    Simulation::new(&init, vec![Material::new("air", gas)], domain, config).unwrap()
+    let state = InitialState {
+        held_in_equilibrium: held,
+        ..InitialState::default()
+    };
+    Simulation::with_initial_state(
+        &init,
+        vec![Material::new("air", gas)],
+        domain,
+        config,
+        state,
+    )
+    .unwrap()
 }
 
 /// A jittered lattice with random velocities (Mach ~0.3) and a random pressure field, so that
@@ -59,7 +72,7 @@ fn gas_box<const D: usize>(
         let velocity = Vector::<D>::from_fn(|a, _| 0.3 * noise(k, 10 + a as u64));
         (velocity, 1.0 + 0.2 * noise(k, 99))
     };
-    lattice_box(n, 0.1, random_state, boundary, config)
+    lattice_box(n, 0.1, random_state, boundary, config, false)
 }
 
 /// Runs `steps` steps and returns (|ΔP − J| / Σm(|v|+c), round-off bound, |ΔE|/E).
@@ -133,6 +146,43 @@ fn transmitting_sides_book_the_momentum_and_energy_that_leave() {
     assert!(left > 1e-3 * e0, "{left:e}");
     // the leapfrog's drift over 40 steps of this box is below 1e-4 (the test below)
     assert!(balance < 1e-4, "{balance:e}");
+}
+
+/// A gas with a random pressure field at rest, held in equilibrium: each particle's constant
+/// external acceleration cancels its initial one, so it stays at rest (to the round-off of
+/// sums reordered along the Morton curve). Set moving, the external forces' impulse and work
+/// are booked: momentum less the walls' and their impulse is conserved to round-off, energy
+/// with their work to the leapfrog's drift.
+#[test]
+fn a_state_held_in_equilibrium_stays_at_rest_and_its_external_forces_are_booked() {
+    let pressure_field = |k: usize, _: &Vector<2>| (Vector::<2>::zeros(), 1.0 + 0.2 * noise(k, 99));
+    // continuity density and a fixed h: at rest nothing but the forces could change
+    let config = SimulationConfig {
+        formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::Fixed)),
+        ..SimulationConfig::default()
+    };
+    let mut sim = lattice_box(16, 0.1, pressure_field, Boundary::Wall, config, true);
+    let x0: Vec<Vector<2>> = sim.particles().position.clone();
+    for _ in 0..40 {
+        sim.step(1e-3).unwrap();
+    }
+    let p = sim.particles();
+    let moved = (0..p.n_real())
+        .map(|i| (p.position[i] - x0[p.id[i] as usize]).norm())
+        .fold(0.0, f64::max);
+    assert!(moved < 1e-12, "a particle held at rest moved {moved:e}");
+
+    let moving = |k: usize, _: &Vector<2>| {
+        let velocity = Vector::<2>::from_fn(|a, _| 0.3 * noise(k, 10 + a as u64));
+        (velocity, 1.0 + 0.2 * noise(k, 99))
+    };
+    let mut sim = lattice_box(24, 0.1, moving, Boundary::Transmitting, config, true);
+    let e0 = sim.particles().total_energy();
+    let (residual, bound, _) = balances(&mut sim, 40);
+    assert!(residual <= bound, "{residual:e} > {bound:e}");
+    let balance = (sim.particles().total_energy() + sim.transmitted_energy() - e0).abs() / e0;
+    assert!(balance < 1e-4, "{balance:e}");
+    assert!(sim.transmitted_energy().abs() > 1e-3 * e0);
 }
 
 /// Total energy is conserved up to the time-integration error, which is second order: halving
@@ -579,7 +629,7 @@ fn hot_spot_box<const D: usize>(n: usize, config: SimulationConfig) -> Simulatio
         let r2 = (x - Vector::repeat(0.5)).norm_squared();
         (Vector::zeros(), 1.0 + 2.0 * (-r2 / 0.01).exp())
     };
-    lattice_box(n, 0.05, hot_spot, Boundary::Periodic, config)
+    lattice_box(n, 0.05, hot_spot, Boundary::Periodic, config, false)
 }
 
 /// The interface penalty (seed eqs. 3-29/3-30) pushes apart only particles of different

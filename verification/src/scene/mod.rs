@@ -125,6 +125,7 @@ struct SceneFile {
     domain: DomainFile,
     #[serde(default)]
     numerics: Option<Spanned<NumericsFile>>,
+    gravity: Option<Spanned<GravityFile>>,
     #[serde(default)]
     material: Vec<Spanned<MaterialFile>>,
     #[serde(default)]
@@ -159,6 +160,15 @@ struct Sides {
     y_max: Side,
     z_min: Option<Side>,
     z_max: Option<Side>,
+}
+
+/// Gravity along the vertical axis and the height of the ground's surface: the bodies start
+/// in their geostatic state, held in equilibrium.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GravityFile {
+    acceleration: f64,
+    surface: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -244,6 +254,10 @@ pub struct SceneMaterial {
     pub ambient: (f64, f64),
     /// The detonation speed of an explosive (m/s).
     pub detonation_speed: Option<f64>,
+    /// The coefficient of earth pressure at rest K0 = σ_h/σ_v of a geostatic state: Jaky's
+    /// 1 − sin φ for a Drucker–Prager soil, ν/(1 − ν) for an elastic solid (no lateral strain
+    /// under its own weight), 1 for a fluid.
+    pub at_rest_ratio: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -259,6 +273,12 @@ pub struct Body {
     pub velocity: Vec<f64>,
     /// Where the body stands in the file.
     pub line: usize,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gravity {
+    pub acceleration: f64,
+    pub surface: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -278,6 +298,9 @@ pub struct Scene {
     pub cfl: f64,
     pub eta: f64,
     pub alpha_min: f64,
+    /// Gravity's magnitude (m/s², acting down the vertical axis) and the ground surface's
+    /// height: the bodies start in the geostatic state (see `run.rs`).
+    pub gravity: Option<Gravity>,
     pub lo: Vec<f64>,
     pub hi: Vec<f64>,
     /// (lower, upper) side per axis.
@@ -405,6 +428,30 @@ impl Scene {
             .transpose()?;
         let (cfl, eta, alpha_min) = numerics(&cx, file.numerics.as_ref())?;
 
+        let gravity = file
+            .gravity
+            .as_ref()
+            .map(|g| {
+                let span = g.span();
+                let g = g.get_ref();
+                Ok::<_, VerifyError>(Gravity {
+                    acceleration: cx.within(
+                        span.clone(),
+                        "gravity.acceleration",
+                        g.acceleration,
+                        (0.0, 100.0),
+                        "m/s²",
+                    )?,
+                    surface: cx.within(
+                        span,
+                        "gravity.surface",
+                        g.surface,
+                        (-COORDINATE_LIMIT, COORDINATE_LIMIT),
+                        "m",
+                    )?,
+                })
+            })
+            .transpose()?;
         let domain = &file.domain;
         cx.point(
             domain.min.span(),
@@ -591,6 +638,7 @@ impl Scene {
             cfl,
             eta,
             alpha_min,
+            gravity,
             lo,
             hi,
             sides,
@@ -877,9 +925,15 @@ fn scene_material(
     if strength.is_some() && base.detonation_speed.is_some() {
         return Err(cx.error_at_line(line, "material", "an explosive has no strength model"));
     }
+    let at_rest_ratio = match (&entry.drucker_prager, &entry.von_mises) {
+        (Some(dp), _) => 1.0 - dp.friction_angle.to_radians().sin(),
+        (_, Some(vm)) => vm.poisson / (1.0 - vm.poisson),
+        (None, None) => base.at_rest_ratio,
+    };
     Ok(SceneMaterial {
         name: entry.name.clone(),
         strength,
+        at_rest_ratio,
         ..base
     })
 }
@@ -907,10 +961,15 @@ fn library_material(
     library.material(key).map_err(named)?;
     let ambient = library.ambient_state(key).map_err(named)?;
     let explosive = library.entry(key).map_err(named)?.model == "jwl";
+    let at_rest_ratio = match library.value(key, "poisson") {
+        Ok(poisson) => poisson / (1.0 - poisson),
+        Err(_) => 1.0,
+    };
     Ok(SceneMaterial {
         name: key.clone(),
         library: key.clone(),
         strength: None,
+        at_rest_ratio,
         ambient,
         detonation_speed: if explosive {
             Some(library.value(key, "d_cj").map_err(named)?)
