@@ -8,7 +8,7 @@ use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
 use blastsph_verification::scene::{self, Scene};
 use blastsph_verification::sedov::{geometry_named, SedovBlast};
-use blastsph_verification::{index, problems, report, Level, VerifyError};
+use blastsph_verification::{index, problems, report, tunnel, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -57,6 +57,34 @@ enum Command {
         /// strain, plastic work and status 0 elastic / 1 plastic / 2 failed), for ParaView.
         #[arg(long)]
         vtk: bool,
+    },
+    /// The tunnel study: the free-field gate for each charge, then a lined tunnel at each
+    /// crown depth under each surface charge: gauges at crown and invert, peak stress against
+    /// depth, the safe depth per charge. Exit 3 when a gate fails (nothing else is run) unless
+    /// --accept-unvalidated, which stamps NOT VALIDATED on every output.
+    Tunnel {
+        /// Crown depths below the ground (m), comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "10,15,20")]
+        depths: Vec<f64>,
+        /// TNT charges on the ground (kg), comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "500,1000,5000")]
+        charges: Vec<f64>,
+        /// The TM 5-855-1 soil (the gate's; its library model is simulated).
+        #[arg(long, default_value = "dry-sand-backfill")]
+        soil: String,
+        /// Internal diameter of the tunnel (m).
+        #[arg(long, default_value_t = 6.0)]
+        diameter: f64,
+        /// Thickness of the concrete lining (m).
+        #[arg(long, default_value_t = 0.35)]
+        lining: f64,
+        #[arg(long, value_enum, default_value = "quick")]
+        level: LevelArg,
+        #[arg(long, default_value = "results/tunnel")]
+        out: PathBuf,
+        /// Run the cases even where a gate failed, every output stamped NOT VALIDATED.
+        #[arg(long)]
+        accept_unvalidated: bool,
     },
     /// Run a scene file (TOML; see `scenes/` and the README): gauge histories (CSV), per
     /// material momentum and energy, particle snapshots (VTU with a .pvd index) and
@@ -296,6 +324,37 @@ fn main() -> ExitCode {
             out,
             threads,
         } => run_scene(&scene, out, threads),
+        Command::Tunnel {
+            depths,
+            charges,
+            soil,
+            diameter,
+            lining,
+            level,
+            out,
+            accept_unvalidated,
+        } => {
+            let request = tunnel::StudyRequest {
+                depths_m: depths,
+                charges_kg: charges,
+                soil,
+                tunnel: tunnel::Tunnel {
+                    inner_diameter_m: diameter,
+                    lining_m: lining,
+                    ..tunnel::Tunnel::default()
+                },
+                level: level.into(),
+            };
+            return match tunnel_command(&request, accept_unvalidated, &out) {
+                Ok(Some(true)) => ExitCode::SUCCESS,
+                Ok(Some(false)) => ExitCode::from(1),
+                Ok(None) => ExitCode::from(3),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            };
+        }
         Command::Sedov {
             geometry,
             gamma,
@@ -390,6 +449,62 @@ fn print_problem_list() {
         }
     }
     emit(&text);
+}
+
+/// Runs the tunnel study and writes its outputs; Some(every check passed), or None when a
+/// gate failed and the study stopped there.
+fn tunnel_command(
+    request: &tunnel::StudyRequest,
+    accept_unvalidated: bool,
+    out: &Path,
+) -> Result<Option<bool>, VerifyError> {
+    report::ensure_writable(out)?;
+    // a study.json left by an earlier run must not stand beside this run's outputs
+    let study_path = out.join("study.json");
+    if study_path.exists() {
+        std::fs::remove_file(&study_path).map_err(|source| VerifyError::Io {
+            path: study_path.display().to_string(),
+            source,
+        })?;
+    }
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:24} [{bar:40}] {percent:>3}% eta {eta}")
+            .expect("valid template"),
+    );
+    let outcome = tunnel::run_study(request, accept_unvalidated, out, &|name, f| {
+        bar.set_message(name.to_string());
+        bar.set_position((f * 1000.0) as u64);
+    })?;
+    bar.finish_and_clear();
+    let study = match outcome {
+        tunnel::Outcome::GateFailed(gate) => {
+            for g in &gate {
+                println!(
+                    "gate {} kg: {} (report {}/gate/gate-{}.json)",
+                    g.charge_kg,
+                    if g.pass { "PASS" } else { "FAIL" },
+                    out.display(),
+                    g.inputs_hash
+                );
+            }
+            println!(
+                "the free-field gate failed: no tunnel results (--accept-unvalidated runs them \
+                 stamped NOT VALIDATED)"
+            );
+            return Ok(None);
+        }
+        tunnel::Outcome::Done(study) => study,
+    };
+    for (name, figure) in tunnel::figures(&study, out)? {
+        report::write_atomic(&out.join(format!("{name}.svg")), figure.to_svg().as_bytes())?;
+    }
+    let markdown = tunnel::report_markdown(&study);
+    report::write_atomic(&out.join("report.md"), markdown.as_bytes())?;
+    let json = serde_json::to_vec_pretty(&study).expect("the study serialises");
+    report::write_atomic(&study_path, &json)?;
+    print!("{markdown}");
+    Ok(Some(study.checks.iter().all(|c| c.holds())))
 }
 
 /// Starts the worker pool with `threads` threads (default: one per core).

@@ -38,7 +38,9 @@ pub use physics::{
     ArtificialStress, ArtificialViscosity, EnergyEquation, InterfacePenalty, ViscositySwitch,
 };
 pub use radial::Geometry;
-pub use step::{ArtificialHeating, InitialState, PhaseTimes, Simulation, SimulationConfig};
+pub use step::{
+    ArtificialHeating, InitialState, PhaseTimes, PrescribedMotion, Simulation, SimulationConfig,
+};
 pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
 
 /// A point or vector in D dimensions.

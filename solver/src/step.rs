@@ -177,11 +177,25 @@ pub struct Simulation<const D: usize> {
     burn: Option<ProgrammedBurn>,
     /// Total-Lagrangian solids: the bonds of the reference configuration.
     reference: Option<ReferenceConfiguration<D>>,
+    /// Particles whose motion is prescribed.
+    prescribed: Option<std::sync::Arc<dyn PrescribedMotion<D>>>,
+}
+
+/// A motion prescribed for some particles, by particle id: their acceleration at a time
+/// (`None` for a particle that moves freely). A band of particles moving with a free field
+/// that was computed elsewhere drives the rest of a scene (a domain-reduction boundary).
+pub trait PrescribedMotion<const D: usize>: Send + Sync + std::fmt::Debug {
+    fn acceleration(&self, id: u32, time: f64) -> Option<Vector<D>>;
 }
 
 /// What a scene adds to its particles' initial state beyond [`ParticleInit`].
 #[derive(Clone, Debug, Default)]
 pub struct InitialState<const D: usize> {
+    /// Particles whose motion is prescribed (their initial velocity is the `ParticleInit`'s):
+    /// each takes the prescribed acceleration instead of the one its forces give, and the
+    /// difference is booked as an external force (impulse with the walls', work with the
+    /// energy exchanged with the outside).
+    pub prescribed: Option<std::sync::Arc<dyn PrescribedMotion<D>>>,
     /// The programmed burn of a charge (one lighting time per particle).
     pub burn: Option<ProgrammedBurn>,
     /// The deviatoric stress of each particle (zero in fluids), e.g. a geostatic state.
@@ -248,9 +262,10 @@ impl<const D: usize> Simulation<D> {
         if let Some(burn) = &state.burn {
             one_each("lighting times", burn.lighting_time.len())?;
         }
-        if state.held_in_equilibrium && config.formulation.is_total_lagrangian() {
+        let external = state.held_in_equilibrium || state.prescribed.is_some();
+        if external && config.formulation.is_total_lagrangian() {
             return Err(SolverError::invalid(
-                "held in equilibrium",
+                "held in equilibrium or prescribed motion",
                 "a total-Lagrangian scene",
                 "Cartesian, axisymmetric or radial scenes (the bond pass has no external forces)",
             ));
@@ -382,6 +397,7 @@ impl<const D: usize> Simulation<D> {
             repeated_searches: 0,
             burn,
             reference,
+            prescribed: state.prescribed,
         };
         if let Some(stress) = state.deviatoric_stress {
             if !sim.particles.deviatoric_stress.is_empty() {
@@ -404,6 +420,24 @@ impl<const D: usize> Simulation<D> {
         let n = p.n_real();
         p.external_acceleration = p.acceleration[..n].iter().map(|a| -a).collect();
         self.apply_external_accelerations();
+    }
+
+    /// Gives each particle whose motion is prescribed its prescribed acceleration at `time`;
+    /// what that takes beyond its forces is an external force, booked as
+    /// [`Simulation::apply_external_accelerations`] books its own.
+    fn apply_prescribed_motion(&mut self, time: f64) {
+        let Some(motion) = &self.prescribed else {
+            return;
+        };
+        let p = &mut self.particles;
+        for i in 0..p.n_real() {
+            if let Some(prescribed) = motion.acceleration(p.id[i], time) {
+                let external = prescribed - p.acceleration[i];
+                p.acceleration[i] = prescribed;
+                self.totals.wall_force += external * p.mass[i];
+                self.totals.transmitted_power -= p.mass[i] * external.dot(&p.velocity[i]);
+            }
+        }
     }
 
     /// Adds each particle's constant external acceleration; its force joins the walls' and its
@@ -733,6 +767,7 @@ impl<const D: usize> Simulation<D> {
         }
         self.apply_transmitting_boundaries();
         self.apply_external_accelerations();
+        self.apply_prescribed_motion(time);
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
     }

@@ -22,6 +22,7 @@ pub mod scaled;
 pub mod scene;
 pub mod sedov;
 pub mod svg;
+pub mod tunnel;
 pub mod vtk;
 
 use thiserror::Error;

@@ -37,7 +37,7 @@
 
 mod run;
 
-pub use run::{run, RunSummary};
+pub use run::{particles, run, run_with, Prescribe, RunSummary};
 
 use crate::materials::Library;
 use crate::VerifyError;

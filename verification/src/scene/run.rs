@@ -10,6 +10,7 @@
 //! finished run.
 
 use super::{contains, Body, Geometry, Gravity, Scene};
+use crate::gauges::ARRIVAL_FRACTION;
 use crate::problems::viscosity_switched_down_to;
 use crate::report::write_atomic;
 use crate::vtk::{status_code, Snapshot};
@@ -18,13 +19,15 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{
     Boundary, Density, Domain, EnergyEquation, Formulation, InitialState, KernelShape, Material,
-    ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Tensor, Vector,
+    PrescribedMotion, ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Tensor,
+    Vector,
 };
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// What `scene.json` holds.
@@ -52,6 +55,13 @@ pub struct RunSummary {
     pub gravity_balance: Option<GravityBalance>,
     /// The largest displacement of any particle at the end (m).
     pub max_displacement_m: f64,
+    /// The energy that left through transmitting sides or as work against external forces
+    /// (J; negative where external forces did work on the particles).
+    pub energy_exchanged_j: f64,
+    /// Per body with strength: particles that yielded (plastic strain above zero at the end)
+    /// and that failed (reached the tensile cutoff at some step).
+    pub yielded: BTreeMap<String, usize>,
+    pub failed: BTreeMap<String, usize>,
     pub gauges: Vec<GaugeSummary>,
 }
 
@@ -65,6 +75,9 @@ pub struct GaugeSummary {
     pub peak_pressure_pa: f64,
     pub peak_velocity_m_s: f64,
     pub peak_von_mises_pa: f64,
+    pub peak_displacement_m: f64,
+    /// The first time |v| reached [`ARRIVAL_FRACTION`] of its peak (NaN if it never moved).
+    pub arrival_s: f64,
 }
 
 /// Builds and runs `scene`, writing its outputs into `out` (see the module's comment);
@@ -76,10 +89,15 @@ pub fn run(
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunSummary, VerifyError> {
     match scene.geometry.dimension() {
-        2 => run_in::<2>(scene, out, progress),
-        _ => run_in::<3>(scene, out, progress),
+        2 => run_with::<2>(scene, out, progress, &|_, _| None, &mut |_| {}),
+        _ => run_with::<3>(scene, out, progress, &|_, _| None, &mut |_| {}),
     }
 }
+
+/// The motion `prescribe` gives some particles of a scene, built from the particles' initial
+/// state and bodies (indices into the scene's bodies) before the run starts.
+pub type Prescribe<'a, const D: usize> =
+    &'a dyn Fn(&[ParticleInit<D>], &[usize]) -> Option<Arc<dyn PrescribedMotion<D>>>;
 
 /// The particles, the bodies they belong to, and the programmed burn if there is a charge.
 struct Built<const D: usize> {
@@ -129,7 +147,8 @@ fn lattice<const D: usize>(scene: &Scene, body: &Body) -> Vec<Vector<D>> {
 
 /// The free field's vertical stress σ_v = −g ∫ ρ dz at the height of `x`: the column from
 /// there up to the ground's surface at the domain's far horizontal corner, each height taking
-/// the ambient density of the body it lies in, summed by the midpoint rule in steps of `dz`.
+/// the ambient density of the body it lies in (above the domain, that of the body at its top),
+/// summed by the midpoint rule in steps of `dz`.
 /// A horizontally layered ground thus carries each layer's weight, while buried structures
 /// and voids are wished into the free-field stress and cast no shadow (the stress the
 /// surrounding ground would redistribute around them is not modelled).
@@ -143,11 +162,18 @@ fn overburden(scene: &Scene, gravity: Gravity, x: &[f64], dz: f64) -> f64 {
     let step = depth / steps as f64;
     let mut point: Vec<f64> = (0..d).map(|a| scene.hi[a] - 0.5 * dz).collect();
     let mut column = 0.0;
+    // above the domain's top, up to a surface beyond it, the ground is the top body's
+    let mut density = 0.0;
     for k in 0..steps {
         point[d - 1] = x[d - 1] + (k as f64 + 0.5) * step;
-        if let Some(body) = scene.bodies.iter().find(|b| in_body(b, &point)) {
-            column += scene.materials[body.material].ambient.0 * step;
+        if point[d - 1] < scene.hi[d - 1] {
+            density = scene
+                .bodies
+                .iter()
+                .find(|b| in_body(b, &point))
+                .map_or(0.0, |body| scene.materials[body.material].ambient.0);
         }
+        column += density * step;
     }
     -gravity.acceleration * column
 }
@@ -220,6 +246,15 @@ fn geostatic<const D: usize>(
         }
     }
     Ok(stresses)
+}
+
+/// The particles a run of `scene` starts from (geostatic under gravity) and the index of each
+/// one's body.
+pub fn particles<const D: usize>(
+    scene: &Scene,
+) -> Result<(Vec<ParticleInit<D>>, Vec<usize>), VerifyError> {
+    let built = build::<D>(scene)?;
+    Ok((built.init, built.body_of))
 }
 
 fn build<const D: usize>(scene: &Scene) -> Result<Built<D>, VerifyError> {
@@ -550,10 +585,14 @@ fn material_ledger<const D: usize>(sim: &Simulation<D>, materials: usize) -> Vec
     row
 }
 
-fn run_in<const D: usize>(
+/// As [`run`], in `D` dimensions, with the motion `prescribe` gives (see [`Prescribe`]) and
+/// `after_step` called with the simulation after every step.
+pub fn run_with<const D: usize>(
     scene: &Scene,
     out: &Path,
     progress: &mut dyn FnMut(f64),
+    prescribe: Prescribe<D>,
+    after_step: &mut dyn FnMut(&Simulation<D>),
 ) -> Result<RunSummary, VerifyError> {
     let io = |path: &Path| {
         let path = path.display().to_string();
@@ -606,6 +645,7 @@ fn run_in<const D: usize>(
     let config = config(scene);
     let started = Instant::now();
     let state = InitialState {
+        prescribed: prescribe(&built.init, &built.body_of),
         burn: built.burn,
         held_in_equilibrium: built.deviatoric_stress.is_some(),
         deviatoric_stress: built.deviatoric_stress,
@@ -640,6 +680,19 @@ fn run_in<const D: usize>(
         g.rows.push(gauge_row(&sim, i, &g.start));
     }
 
+    // particles that reached the tensile cutoff, by id
+    let mut ever_failed = vec![false; built.init.len()];
+    let mut mark_failed = |sim: &Simulation<D>| {
+        let p = sim.particles();
+        for i in 0..p.n_real() {
+            if let Some(strength) = sim.materials()[p.material_of(i)].strength {
+                if strength.failed_in_tension(p.pressure[i]) {
+                    ever_failed[p.id[i] as usize] = true;
+                }
+            }
+        }
+    };
+    mark_failed(&sim);
     let mut stopped = None;
     while sim.time() < scene.end_time {
         let target = next_ledger.min(scene.end_time);
@@ -651,6 +704,8 @@ fn run_in<const D: usize>(
             let i = index_of(&sim, g.id, hint);
             g.rows.push(gauge_row(&sim, i, &g.start));
         }
+        after_step(&sim);
+        mark_failed(&sim);
         if sim.time() >= target {
             ledger.push(material_ledger(&sim, scene.materials.len()));
             next_ledger += ledger_interval;
@@ -692,6 +747,21 @@ fn run_in<const D: usize>(
 
     let energy_change_j =
         sim.particles().total_energy() + sim.transmitted_energy() - energy_at_start;
+    let strong_bodies: Vec<usize> = (0..scene.bodies.len())
+        .filter(|&b| sim.materials()[scene.bodies[b].material].strength.is_some())
+        .collect();
+    let count_by_body = |counted: &dyn Fn(usize) -> bool| {
+        let p = sim.particles();
+        strong_bodies
+            .iter()
+            .map(|&b| {
+                let n = (0..p.n_real())
+                    .filter(|&i| built.body_of[p.id[i] as usize] == b && counted(i))
+                    .count();
+                (scene.bodies[b].name.clone(), n)
+            })
+            .collect::<BTreeMap<String, usize>>()
+    };
     let mut bodies = BTreeMap::new();
     for (b, body) in scene.bodies.iter().enumerate() {
         bodies.insert(
@@ -743,10 +813,32 @@ fn run_in<const D: usize>(
                 peak_pressure_pa: peak(&g.rows, 1, false),
                 peak_velocity_m_s: peak(&g.rows, 2, true),
                 peak_von_mises_pa: peak(&g.rows, 2 + 2 * D, false),
+                peak_displacement_m: peak(&g.rows, 2 + D, true),
+                arrival_s: arrival(&g.rows),
             })
             .collect(),
+        energy_exchanged_j: sim.transmitted_energy(),
+        yielded: count_by_body(&|i| {
+            let p = sim.particles();
+            !p.plastic_strain.is_empty() && p.plastic_strain[i] > 0.0
+        }),
+        failed: count_by_body(&|i| ever_failed[sim.particles().id[i] as usize]),
     };
     let json = serde_json::to_vec_pretty(&summary).expect("the summary serialises");
     write_atomic(&summary_path, &json)?;
     Ok(summary)
+}
+
+/// The first time the speed (columns 2 .. 2 + D of a gauge row) reached
+/// [`ARRIVAL_FRACTION`] of its peak; NaN if it never moved.
+fn arrival(rows: &[Vec<f64>]) -> f64 {
+    let d = (rows.first().map_or(0, Vec::len) - 6) / 2;
+    let speed = |r: &Vec<f64>| r[2..2 + d].iter().map(|v| v * v).sum::<f64>().sqrt();
+    let peak = rows.iter().map(speed).fold(0.0, f64::max);
+    if peak <= 0.0 {
+        return f64::NAN;
+    }
+    rows.iter()
+        .find(|r| speed(r) >= ARRIVAL_FRACTION * peak)
+        .map_or(f64::NAN, |r| r[0])
 }
