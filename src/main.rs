@@ -458,6 +458,7 @@ fn tunnel_command(
     accept_unvalidated: bool,
     out: &Path,
 ) -> Result<Option<bool>, VerifyError> {
+    tunnel::validate(request)?;
     report::ensure_writable(out)?;
     // a study.json left by an earlier run must not stand beside this run's outputs
     let study_path = out.join("study.json");

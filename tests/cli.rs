@@ -878,3 +878,24 @@ fn a_broken_scene_exits_2_by_name_and_writes_nothing() {
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(stderr(&out).contains("/proc/forbidden"));
 }
+
+/// The tunnel study refuses depths, charges, soils and levels it does not cover, by name,
+/// before anything runs or is written.
+#[test]
+fn the_tunnel_study_refuses_bad_requests_by_name() {
+    let dir = scratch("tunnel-bad");
+    for (args, named) in [
+        (vec!["--depths", "0.5"], "--depths"),
+        (vec!["--charges", "500,-3"], "--charges"),
+        (vec!["--soil", "peat"], "soil"),
+        (vec!["--level", "full"], "--level"),
+        (vec!["--lining", "0"], "--lining"),
+    ] {
+        let mut all = vec!["tunnel", "--out", dir.to_str().unwrap()];
+        all.extend(args.iter().copied());
+        let out = blastsph(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains(named), "{args:?}: {}", stderr(&out));
+        assert!(!dir.exists(), "{args:?} wrote its folder");
+    }
+}

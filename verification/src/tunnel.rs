@@ -659,7 +659,8 @@ edge by that free field (domain reduction)";
 pub const DEPTH_RANGE_M: (f64, f64) = (2.0, 60.0);
 pub const CHARGE_RANGE_KG: (f64, f64) = (1.0, 2e4);
 
-fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
+/// Refuses a request outside the study's ranges, naming the option and the range.
+pub fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
     let within = |field: &str, v: f64, (lo, hi): (f64, f64), unit: &str| {
         if (lo..=hi).contains(&v) {
             Ok(())
