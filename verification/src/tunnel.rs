@@ -126,6 +126,28 @@ impl Section {
     }
 }
 
+/// What both scenes of a case share: gravity with the ground's surface at z = 0, the
+/// smoothing, and the soil as material "soil".
+fn ground(soil: &Soil) -> String {
+    format!(
+        r#"[gravity]
+acceleration = {GRAVITY}
+surface = 0.0
+
+[numerics]
+eta = {ETA}
+
+[[material]]
+name = "soil"
+library = "{library}"
+drucker_prager = {{ cohesion = {c}, friction_angle = {phi} }}
+"#,
+        library = soil.library,
+        c = soil.cohesion_pa,
+        phi = soil.friction_angle_degrees,
+    )
+}
+
 /// The free-field scene of `charge_kg` reaching down to `depth_m` and out to `radius_m`, with
 /// gauges `at-crown-k` where the k-th crown will be (`crown_z`) and `side-k` at `side_r`
 /// beside it.
@@ -162,18 +184,7 @@ min = [0.0, {zmin}]
 max = [{radius_m}, {ztop}]
 sides = {{ x_min = "wall", x_max = "transmitting", y_min = "transmitting", y_max = "open" }}
 
-[gravity]
-acceleration = {GRAVITY}
-surface = 0.0
-
-[numerics]
-eta = {ETA}
-
-[[material]]
-name = "soil"
-library = "{library}"
-drucker_prager = {{ cohesion = {c}, friction_angle = {phi} }}
-
+{ground}
 [[body]]
 name = "charge"
 material = "tnt"
@@ -203,8 +214,7 @@ subtract = ["soil-near", "soil-mid"]
 
 {gauges}"#,
         library = soil.library,
-        c = soil.cohesion_pa,
-        phi = soil.friction_angle_degrees,
+        ground = ground(soil),
         zmin = -depth_m,
         ztop = 2.0 * rc,
         s1 = 2.0 * s0,
@@ -260,18 +270,7 @@ min = [{xmin}, {zmin}]
 max = [{w}, {zmax}]
 sides = {{ x_min = "open", x_max = "open", y_min = "open", y_max = "open" }}
 
-[gravity]
-acceleration = {GRAVITY}
-surface = 0.0
-
-[numerics]
-eta = {ETA}
-
-[[material]]
-name = "soil"
-library = "{library}"
-drucker_prager = {{ cohesion = {c}, friction_angle = {phi} }}
-
+{ground}
 [[material]]
 name = "lining"
 library = "concrete"
@@ -300,11 +299,9 @@ position = [0.0, {invert_z}]
 "#,
         depth = case.depth_m,
         charge = case.charge_kg,
+        ground = ground(soil),
         // twenty particle snapshots of the section (pressure, von Mises stress, status)
         snapshot_interval = end_time / 20.0,
-        library = soil.library,
-        c = soil.cohesion_pa,
-        phi = soil.friction_angle_degrees,
         yield_pa = tunnel.lining_yield_pa,
         xmin = -w,
         zmin = centre_z - w,
