@@ -148,7 +148,8 @@ drucker_prager = {{ cohesion = {c}, friction_angle = {phi} }}
     )
 }
 
-/// The free-field scene of `charge_kg` reaching down to `depth_m` and out to `radius_m`, with
+/// The free-field scene of `charge_kg` reaching down to `depth_m` and out to `radius_m`, its
+/// soil no coarser than `far_spacing` where the sections' bands read it, with
 /// gauges `at-crown-k` where the k-th crown will be (`crown_z`) and `side-k` at `side_r`
 /// beside it.
 fn free_field_scene(
@@ -156,6 +157,7 @@ fn free_field_scene(
     soil: &Soil,
     resolution: Resolution,
     (radius_m, depth_m): (f64, f64),
+    far_spacing: f64,
     gauges: &[(f64, f64)],
     end_time: f64,
 ) -> String {
@@ -171,8 +173,9 @@ fn free_field_scene(
         .collect();
     let rc = hemisphere_radius(charge_kg);
     let s0 = rc / resolution.across_charge as f64;
-    // spacing doubles from box to box; each box is three times the last
+    // spacing doubles from box to box, up to `far_spacing`; each box is three times the last
     let (a1, a2) = (10.0 * s0, 30.0 * s0);
+    let spacing = |k: f64| (k * s0).min(far_spacing).max(s0);
     format!(
         r#"[scene]
 name = "free field, {charge_kg} kg TNT on {library}"
@@ -217,9 +220,9 @@ subtract = ["soil-near", "soil-mid"]
         ground = ground(soil),
         zmin = -depth_m,
         ztop = 2.0 * rc,
-        s1 = 2.0 * s0,
-        s2 = 4.0 * s0,
-        s3 = 8.0 * s0,
+        s1 = spacing(2.0),
+        s2 = spacing(4.0),
+        s3 = spacing(8.0),
         za1 = -a1,
         za2 = -a2,
     )
@@ -533,6 +536,7 @@ fn p_wave_speed(soil: &Soil) -> Result<f64, VerifyError> {
             across_lining: 1,
         },
         (10.0, 10.0),
+        1.0,
         &[],
         1e-3,
     ))?;
@@ -577,11 +581,16 @@ fn prepare_charge(
         .iter()
         .map(|(_, s)| (s.centre_z + outer - 0.25 * s.soil_spacing, side_r))
         .collect();
+    // the bands interpolate the free field over a few of its spacings: no coarser than three
+    // of the sections' soil spacings, whatever the charge (a large charge's doubling spacings
+    // would otherwise reach metres at the sections)
+    let far_spacing = 3.0 * geometry[0].1.soil_spacing;
     let free_text = free_field_scene(
         charge_kg,
         soil,
         resolution,
         (reach_r + margin, reach_z + margin),
+        far_spacing,
         &gauges,
         end,
     );
