@@ -497,11 +497,14 @@ fn tunnel_command(
         }
         tunnel::Outcome::Done(study) => study,
     };
-    for (name, figure) in tunnel::figures(&study, out)? {
+    let figures = tunnel::figures(&study, out)?;
+    for (name, figure) in &figures {
         report::write_atomic(&out.join(format!("{name}.svg")), figure.to_svg().as_bytes())?;
     }
     let markdown = tunnel::report_markdown(&study);
     report::write_atomic(&out.join("report.md"), markdown.as_bytes())?;
+    let html = tunnel::report_html(&study, &figures);
+    report::write_atomic(&out.join("report.html"), html.as_bytes())?;
     let json = serde_json::to_vec_pretty(&study).expect("the study serialises");
     report::write_atomic(&study_path, &json)?;
     print!("{markdown}");

@@ -1,7 +1,8 @@
 //! `index.html`: the verification suite on one self-contained page (figures inline, no
 //! network): the summary table of every problem (particles, steps, wall time, headline errors,
 //! observed orders, pass/fail and each failed check with its value and limit), the
-//! work–precision figure, then each problem's checks and figure.
+//! work–precision figure, then each problem's checks and figure. The tunnel study's
+//! `report.html` is laid out by the same [`document`] and [`checks_table`].
 
 use crate::record::{Check, Record};
 use std::fmt::Write;
@@ -13,7 +14,7 @@ pub struct Entry<'a> {
 }
 
 /// Text for HTML: &, <, > and " escaped.
-fn escape(text: &str) -> String {
+pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -28,7 +29,7 @@ fn escape(text: &str) -> String {
 }
 
 /// A number with four significant digits, plain where that reads well, else in e-notation.
-fn number(x: f64) -> String {
+pub fn number(x: f64) -> String {
     if !x.is_finite() {
         return format!("{x}");
     }
@@ -60,19 +61,40 @@ fn check_row(check: &Check) -> String {
     )
 }
 
-/// The page for `entries` and the work–precision figure, with `heading` (level, threads).
-pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> String {
-    let mut html = String::new();
-    let _ = write!(
-        html,
+/// A self-contained page: `title`, the shared style, and `body` (HTML).
+pub fn document(title: &str, body: &str) -> String {
+    format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
-         <title>blastsph verification</title><style>\
+         <title>{title}</title><style>\
          body{{font-family:sans-serif;margin:1.5em;max-width:1100px}}\
          table{{border-collapse:collapse;margin:0.5em 0 1em}}\
          td,th{{border:1px solid #bbb;padding:2px 6px;text-align:left;font-size:13px}}\
          tr.fail td{{background:#fde2e2}} td.fail{{color:#a00;font-weight:bold}}\
          td.pass{{color:#060}} svg{{max-width:100%;height:auto}}\
-         </style></head><body>\n<h1>blastsph verification</h1>\n<p>{}</p>\n",
+         p.stamp{{color:#a00;font-weight:bold;font-size:18px}}\
+         </style></head><body>\n{body}\n</body></html>\n",
+        title = escape(title)
+    )
+}
+
+/// The table of `checks`: name, value, limit and result, failed rows marked.
+pub fn checks_table(checks: &[Check]) -> String {
+    let mut html =
+        "<table><tr><th>check</th><th>value</th><th>limit</th><th>result</th></tr>\n".to_string();
+    for check in checks {
+        html.push_str(&check_row(check));
+        html.push('\n');
+    }
+    html.push_str("</table>\n");
+    html
+}
+
+/// The page for `entries` and the work–precision figure, with `heading` (level, threads).
+pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> String {
+    let mut html = String::new();
+    let _ = write!(
+        html,
+        "<h1>blastsph verification</h1>\n<p>{}</p>\n",
         escape(heading)
     );
     let passed = entries.iter().filter(|e| e.record.pass).count();
@@ -146,24 +168,18 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
         let r = entry.record;
         let _ = writeln!(
             html,
-            "\n<h2 id=\"{name}\">{name}: {}</h2>\n<table><tr><th>check</th><th>value</th>\
-             <th>limit</th><th>result</th></tr>",
+            "\n<h2 id=\"{name}\">{name}: {}</h2>",
             if r.pass { "PASS" } else { "FAIL" },
             name = escape(&r.problem),
         );
-        for check in &r.checks {
-            html.push_str(&check_row(check));
-            html.push('\n');
-        }
-        html.push_str("</table>\n");
+        html.push_str(&checks_table(&r.checks));
         html.push_str(inline(entry.figure_svg));
     }
-    html.push_str("\n</body></html>\n");
-    html
+    document("blastsph verification", &html)
 }
 
 /// An SVG document as an inline element (without an XML declaration).
-fn inline(svg: &str) -> &str {
+pub fn inline(svg: &str) -> &str {
     match svg.find("<svg") {
         Some(start) => &svg[start..],
         None => svg,

@@ -302,14 +302,18 @@ pub fn phase_seconds(times: &blastsph_solver::PhaseTimes) -> BTreeMap<String, f6
 /// problems), the L1 pressure error over p_CJ (detonation), the mean peak-overpressure error
 /// of the gated gauges against the scaled-distance relations (blast waves), the mean
 /// |ln(peak velocity / relations)| of the ground-shock gauges (factors, as the relations'
-/// bands are), the larger reflection coefficient of a transmitting column's two sides.
-pub const HEADLINE_ERRORS: [&str; 6] = [
+/// bands are), the larger reflection coefficient of a transmitting column's two sides, the
+/// Taylor bar's footprint radius against the benchmark (its slower-converging measure), the
+/// elastic wave's speed.
+pub const HEADLINE_ERRORS: [&str; 8] = [
     "l1_rho",
     "l1_u_over_v",
     "l1_p_over_p_cj",
     "mean_peak_overpressure_error",
     "mean_log_peak_velocity_ratio",
     "reflection_coefficient",
+    "footprint_radius_relative",
+    "wave_speed_relative",
 ];
 
 impl Run {

@@ -1,5 +1,5 @@
-//! A small SVG line-plot writer: panels of series on linear axes, with ticks and a legend
-//! below each plot area (outside the data), drawn with each series' own line and marker.
+//! A small SVG line-plot writer: panels of series on linear or logarithmic axes, with ticks and
+//! a legend below each plot area (outside the data), drawn with each series' own line and marker.
 //! A panel that holds a particle map (a series coloured by a field) is drawn at equal scales
 //! on both axes, with a colour bar beside it.
 
@@ -57,12 +57,97 @@ pub struct Series {
     pub style: Style,
 }
 
+/// How an axis maps values to positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Scale {
+    #[default]
+    Linear,
+    /// Decades equally spaced, labelled with their values; non-positive values are not drawn.
+    Log,
+}
+
+impl Scale {
+    /// A value's position along the axis, in the axis' own units.
+    fn position(self, value: f64) -> f64 {
+        match self {
+            Scale::Linear => value,
+            Scale::Log => value.log10(),
+        }
+    }
+
+    /// The mantissas labelled on a log axis spanning `decades`: enough for two labels or more.
+    fn labelled_mantissas(decades: f64) -> &'static [f64] {
+        if decades >= 2.0 {
+            &[1.0]
+        } else if decades >= 0.7 {
+            &[1.0, 2.0, 5.0]
+        } else {
+            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+        }
+    }
+
+    /// Tick positions m·10^k (m = 1…9) from the decade below `lo` to the one above `hi`, each
+    /// with its value and whether it is labelled.
+    fn log_ticks(lo: f64, hi: f64) -> impl Iterator<Item = (f64, f64, bool)> {
+        let labelled = Self::labelled_mantissas(hi - lo);
+        (lo.floor() as i32..=hi.ceil() as i32).flat_map(move |decade| {
+            (1..10).map(move |m| {
+                let value = m as f64 * 10f64.powi(decade);
+                (value.log10(), value, labelled.contains(&(m as f64)))
+            })
+        })
+    }
+
+    /// The axis' view of data spanning positions [lo, hi]: a log axis widens to the labelled
+    /// ticks on either side, so that its ends are labelled and at least two labels show. A
+    /// wider view may label fewer mantissas, so the view is widened again until it holds.
+    fn view(self, lo: f64, hi: f64) -> (f64, f64) {
+        match self {
+            Scale::Linear => (lo, hi),
+            Scale::Log => {
+                let mut view = (lo, hi);
+                for _ in 0..3 {
+                    let labelled: Vec<f64> = Self::log_ticks(view.0, view.1)
+                        .filter(|&(_, _, labelled)| labelled)
+                        .map(|(t, _, _)| t)
+                        .collect();
+                    let below = labelled.iter().rev().find(|&&t| t <= lo + 1e-9);
+                    let above = labelled.iter().find(|&&t| t >= hi - 1e-9);
+                    let wider = (*below.unwrap_or(&lo), *above.unwrap_or(&hi));
+                    if wider == view {
+                        break;
+                    }
+                    view = wider;
+                }
+                view
+            }
+        }
+    }
+
+    /// Ticks over positions [lo, hi]: each position with its label, or none for a minor tick.
+    fn ticks(self, lo: f64, hi: f64) -> Vec<(f64, Option<String>)> {
+        match self {
+            Scale::Linear => ticks(lo, hi)
+                .into_iter()
+                .map(|t| (t, Some(fmt_tick(t))))
+                .collect(),
+            // within 1e-9 of the view, so that its snapped ends keep their labels
+            Scale::Log => Self::log_ticks(lo, hi)
+                .filter(|(t, _, _)| (lo - 1e-9..=hi + 1e-9).contains(t))
+                .map(|(t, value, labelled)| (t, labelled.then(|| fmt_log_tick(value))))
+                .collect(),
+        }
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Panel {
     pub title: String,
     pub x_label: String,
     pub y_label: String,
     pub series: Vec<Series>,
+    pub x_scale: Scale,
+    pub y_scale: Scale,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -255,16 +340,21 @@ impl Panel {
             PANEL_W - ml - mr - bar_room,
             PANEL_H - mt - mb,
         );
-        let (mut xlo, mut xhi) = bounds(
-            self.series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.0)),
-        );
-        let (mut ylo, mut yhi) = bounds(
-            self.series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.1)),
-        );
+        // every point in axis positions (a log axis' non-positive values become non-finite)
+        let positions: Vec<Vec<(f64, f64)>> = self
+            .series
+            .iter()
+            .map(|s| {
+                s.points
+                    .iter()
+                    .map(|&(x, y)| (self.x_scale.position(x), self.y_scale.position(y)))
+                    .collect()
+            })
+            .collect();
+        let (xlo, xhi) = bounds(positions.iter().flatten().map(|p| p.0));
+        let (ylo, yhi) = bounds(positions.iter().flatten().map(|p| p.1));
+        let (mut xlo, mut xhi) = self.x_scale.view(xlo, xhi);
+        let (mut ylo, mut yhi) = self.y_scale.view(ylo, yhi);
         if field.is_some() {
             // equal scales: the shorter range widens about its middle to the common scale
             let scale = ((xhi - xlo) / w).max((yhi - ylo) / h);
@@ -301,28 +391,41 @@ impl Panel {
             fitting_font_size(&self.title, 13.0, PANEL_W - 10.0),
             escape(&self.title)
         );
-        for t in ticks(xlo, xhi) {
+        // a labelled tick is 5 px long, a minor one 3 px
+        for (t, label) in self.x_scale.ticks(xlo, xhi) {
+            let length = if label.is_some() { 5.0 } else { 3.0 };
             let _ = writeln!(
                 s,
-                r##"<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#444"/><text x="{0}" y="{3}" text-anchor="middle">{4}</text>"##,
+                r##"<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#444"/>"##,
                 px(t),
                 y0 + h,
-                y0 + h + 5.0,
-                y0 + h + 18.0,
-                fmt_tick(t)
+                y0 + h + length,
             );
+            if let Some(label) = label {
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{}" y="{}" text-anchor="middle">{label}</text>"#,
+                    px(t),
+                    y0 + h + 18.0,
+                );
+            }
         }
-        for t in ticks(ylo, yhi) {
+        for (t, label) in self.y_scale.ticks(ylo, yhi) {
+            let length = if label.is_some() { 5.0 } else { 3.0 };
             let _ = writeln!(
                 s,
-                r##"<line x1="{0}" y1="{1}" x2="{2}" y2="{1}" stroke="#444"/><text x="{3}" y="{4}" text-anchor="end">{5}</text>"##,
-                x0 - 5.0,
+                r##"<line x1="{}" y1="{1}" x2="{x0}" y2="{1}" stroke="#444"/>"##,
+                x0 - length,
                 py(t),
-                x0,
-                x0 - 8.0,
-                py(t) + 4.0,
-                fmt_tick(t)
             );
+            if let Some(label) = label {
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{}" y="{}" text-anchor="end">{label}</text>"#,
+                    x0 - 8.0,
+                    py(t) + 4.0,
+                );
+            }
         }
         let _ = writeln!(
             s,
@@ -338,10 +441,10 @@ impl Panel {
             y0 + h / 2.0,
             escape(&self.y_label)
         );
-        for (k, series) in self.series.iter().enumerate() {
+        for (k, (series, points)) in self.series.iter().zip(&positions).enumerate() {
             let (colour, shape) = look(k);
             if let Style::Coloured(field) = &series.style {
-                for (&(x, y), &v) in series.points.iter().zip(&field.values) {
+                for (&(x, y), &v) in points.iter().zip(&field.values) {
                     if x.is_finite() && y.is_finite() && v.is_finite() {
                         let _ = writeln!(
                             s,
@@ -354,8 +457,7 @@ impl Panel {
                 }
                 continue;
             }
-            let finite = series
-                .points
+            let finite = points
                 .iter()
                 .filter(|(x, y)| x.is_finite() && y.is_finite());
             if matches!(series.style, Style::Line | Style::LineMarkers) {
@@ -450,6 +552,16 @@ impl Panel {
                 escape(&label)
             );
         }
+    }
+}
+
+/// A log axis' label: its whole mantissa, as a plain number between 0.001 and 10⁴, else as
+/// `me-k`.
+fn fmt_log_tick(value: f64) -> String {
+    if (1e-3..1e4).contains(&value) {
+        fmt_tick(value)
+    } else {
+        format!("{value:.0e}")
     }
 }
 
@@ -566,6 +678,55 @@ mod tests {
         );
         assert_eq!(circles[0].2, "#440154");
         assert_eq!(circles[2].2, "#fde725");
+    }
+
+    /// A log–log panel labels whole decades, equally spaced, each with its value; a view
+    /// narrower than a decade still shows two labels or more.
+    #[test]
+    fn log_axes_label_equally_spaced_decades() {
+        let panel = |points: Vec<(f64, f64)>| Panel {
+            series: vec![Series {
+                label: "s".into(),
+                points,
+                style: Style::LineMarkers,
+            }],
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            ..Panel::default()
+        };
+        // x labels: text elements centred under the axis
+        let x_labels = |svg: &str| -> Vec<(f64, String)> {
+            svg.split("<text x=\"")
+                .skip(1)
+                .filter(|t| t.contains("text-anchor=\"middle\">") && !t.contains("font-size"))
+                .filter_map(|t| {
+                    let x: f64 = t[..t.find('"').unwrap()].parse().ok()?;
+                    let label = &t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()];
+                    Some((x, label.to_string()))
+                })
+                .filter(|(_, label)| label.parse::<f64>().is_ok())
+                .collect()
+        };
+        let svg = Figure {
+            title: "wide".into(),
+            panels: vec![panel(vec![(0.02, 1e-4), (300.0, 1e-1)])],
+        }
+        .to_svg();
+        let labels = x_labels(&svg);
+        let values: Vec<&str> = labels.iter().map(|(_, l)| l.as_str()).collect();
+        assert_eq!(values, ["0.01", "0.1", "1", "10", "100", "1000"], "{svg}");
+        let gaps: Vec<f64> = labels.windows(2).map(|w| w[1].0 - w[0].0).collect();
+        assert!(gaps.iter().all(|g| (g - gaps[0]).abs() < 1e-9), "{gaps:?}");
+        // non-positive values cannot be placed on a log axis and are left out
+        assert!(!svg.contains("NaN") && !svg.contains("inf"));
+        let narrow = Figure {
+            title: "narrow".into(),
+            panels: vec![panel(vec![(0.105, 1.0), (0.13, 2.0), (-1.0, 3.0)])],
+        }
+        .to_svg();
+        let values: Vec<String> = x_labels(&narrow).into_iter().map(|(_, l)| l).collect();
+        assert!(values.len() >= 2, "{values:?}");
+        assert!(values.contains(&"0.1".to_string()), "{values:?}");
     }
 
     #[test]

@@ -625,6 +625,24 @@ pub struct StudyRequest {
     pub level: Level,
 }
 
+impl StudyRequest {
+    /// The request with its depths and charges ascending, each once: the study runs them in
+    /// this order and its monotony checks compare neighbours in it.
+    pub fn in_order(&self) -> Self {
+        let ascending = |values: &[f64]| {
+            let mut values = values.to_vec();
+            values.sort_by(f64::total_cmp);
+            values.dedup();
+            values
+        };
+        Self {
+            depths_m: ascending(&self.depths_m),
+            charges_kg: ascending(&self.charges_kg),
+            ..self.clone()
+        }
+    }
+}
+
 /// A charge's gate verdict.
 #[derive(Clone, Debug, Serialize)]
 pub struct GateVerdict {
@@ -729,6 +747,7 @@ pub fn run_study(
     progress: &(dyn Fn(&str, f64) + Sync),
 ) -> Result<Outcome, VerifyError> {
     validate(request)?;
+    let request = &request.in_order();
     let started = std::time::Instant::now();
     let mut gate = Vec::new();
     for &charge_kg in &request.charges_kg {
@@ -767,7 +786,8 @@ pub fn run_study(
             progress,
         )?);
     }
-    // resolution: the first case again with the section and free field refined by 1.5
+    // resolution: the shallowest depth under the smallest charge again, with the section and
+    // free field refined by 1.5
     let (first_depth, first_charge) = (request.depths_m[0], request.charges_kg[0]);
     let fine = Resolution {
         across_charge: 6,
@@ -937,35 +957,22 @@ fn study_checks(
             .find(|c| c.depth_m == d && c.charge_kg == w)
             .map(|c| c.gauges["crown"].peak_von_mises_pa)
     };
+    // depths and charges ascend (`StudyRequest::in_order`): each case against its neighbours
     for (i, &d) in request.depths_m.iter().enumerate() {
         for (j, &w) in request.charges_kg.iter().enumerate() {
-            if let (Some(here), Some(next)) = (
-                peak(d, w),
-                request.charges_kg.get(j + 1).and_then(|&w2| peak(d, w2)),
-            ) {
-                // a larger charge loads the crown more (ordered as given)
+            let Some(here) = peak(d, w) else { continue };
+            if let Some(larger) = request.charges_kg.get(j + 1).and_then(|&w2| peak(d, w2)) {
                 checks.push(Check::at_least(
                     format!("crown_stress_rises_with_charge_{d}m_{w}kg"),
-                    next / here,
-                    if request.charges_kg[j + 1] > w {
-                        1.0
-                    } else {
-                        0.0
-                    },
+                    larger / here,
+                    1.0,
                 ));
             }
-            if let (Some(here), Some(deeper)) = (
-                peak(d, w),
-                request.depths_m.get(i + 1).and_then(|&d2| peak(d2, w)),
-            ) {
+            if let Some(deeper) = request.depths_m.get(i + 1).and_then(|&d2| peak(d2, w)) {
                 checks.push(Check::at_most(
                     format!("crown_stress_falls_with_depth_{d}m_{w}kg"),
                     deeper / here,
-                    if request.depths_m[i + 1] > d {
-                        1.0
-                    } else {
-                        f64::INFINITY
-                    },
+                    1.0,
                 ));
             }
         }
@@ -1035,6 +1042,7 @@ pub fn figures(study: &Study, out: &Path) -> Result<Vec<(String, Figure)>, Verif
         x_label: "crown depth (m)".into(),
         y_label: "von Mises stress (MPa)".into(),
         series: Vec::new(),
+        ..Panel::default()
     };
     for &w in &study.request.charges_kg {
         peaks.series.push(Series {
@@ -1082,6 +1090,7 @@ pub fn figures(study: &Study, out: &Path) -> Result<Vec<(String, Figure)>, Verif
                 .collect(),
             style: Style::Markers,
         }],
+        ..Panel::default()
     };
     figures.push((
         "crown-peaks".to_string(),
@@ -1129,6 +1138,7 @@ pub fn figures(study: &Study, out: &Path) -> Result<Vec<(String, Figure)>, Verif
                 series(&crown, column, scale, "crown"),
                 series(&invert, column, scale, "invert"),
             ],
+            ..Panel::default()
         };
         figures.push((
             format!("case-{folder}"),
@@ -1149,14 +1159,34 @@ pub fn figures(study: &Study, out: &Path) -> Result<Vec<(String, Figure)>, Verif
     Ok(figures)
 }
 
-/// `report.md`: the verdict, the assumptions, the cases table, the safe depths and the checks.
-pub fn report_markdown(study: &Study) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(s, "# Tunnel study\n");
-    if !study.validated {
-        let _ = writeln!(s, "**{NOT_VALIDATED}.**\n");
-    }
+/// What the study's reports say, as text: `report.md` and `report.html` render the same.
+struct ReportContent {
+    /// The gate, the model and every assumption, a sentence each.
+    facts: Vec<String>,
+    /// The cases, a row each under [`CASE_COLUMNS`].
+    rows: Vec<Vec<String>>,
+    /// Per charge, its safe depth.
+    safe_depths: Vec<String>,
+}
+
+const CASE_COLUMNS: [&str; 10] = [
+    "depth (m)",
+    "charge (kg)",
+    "crown arrival (ms)",
+    "crown peak v (m/s)",
+    "crown peak von Mises (MPa)",
+    "invert peak v (m/s)",
+    "lining plastic / failed",
+    "energy error",
+    "reduction ratio",
+    "wall (s)",
+];
+
+const SAFE_DEPTH_RULE: &str = "The safe depth is the shallowest simulated depth at and below \
+which no lining particle yielded or failed; the true one lies between it and the next shallower \
+simulated depth.";
+
+fn report_content(study: &Study) -> ReportContent {
     let gate: Vec<String> = study
         .gate
         .iter()
@@ -1170,70 +1200,95 @@ pub fn report_markdown(study: &Study) -> String {
         })
         .collect();
     let t = study.request.tunnel;
-    let _ = writeln!(s, "- Gate: {}", gate.join("; "));
-    let _ = writeln!(s, "- Level: {}; model: {}.", study.level, study.model);
-    let _ = writeln!(
-        s,
-        "- Tunnel: {} m internal diameter, {} m concrete lining (von Mises, yield {} MPa). The \
-         source thesis gives neither size: these are the study's defaults.",
-        t.inner_diameter_m,
-        t.lining_m,
-        1e-6 * t.lining_yield_pa
-    );
-    let _ = writeln!(
-        s,
-        "- Soil: {} (TM 5-855-1), simulated as the library's {} with Drucker–Prager strength, \
-         in its geostatic state under gravity.",
-        study.request.soil,
-        soil_model(&study.request.soil).unwrap_or("?")
-    );
-    let _ = writeln!(
-        s,
-        "- Left out by the reduced model: in the section the wave spreads in the plane only; \
+    let facts = vec![
+        format!("Gate: {}", gate.join("; ")),
+        format!("Level: {}; model: {}.", study.level, study.model),
+        format!(
+            "Tunnel: {} m internal diameter, {} m concrete lining (von Mises, yield {} MPa). \
+             The source thesis gives neither size: these are the study's defaults.",
+            t.inner_diameter_m,
+            t.lining_m,
+            1e-6 * t.lining_yield_pa
+        ),
+        format!(
+            "Soil: {} (TM 5-855-1), simulated as the library's {} with Drucker–Prager \
+             strength, in its geostatic state under gravity.",
+            study.request.soil,
+            soil_model(&study.request.soil).unwrap_or("?")
+        ),
+        "Left out by the reduced model: in the section the wave spreads in the plane only; \
          waves scattered by the tunnel are sent back by the driven band; no air above the \
-         ground. Stresses and pressures are totals (the geostatic state included).\n"
-    );
-    let _ = writeln!(
-        s,
-        "| depth (m) | charge (kg) | crown arrival (ms) | crown peak v (m/s) | crown peak von Mises (MPa) | invert peak v (m/s) | lining plastic / failed | energy error | reduction ratio | wall (s) |"
-    );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
-    for c in &study.cases {
-        let (crown, invert) = (&c.gauges["crown"], &c.gauges["invert"]);
-        let _ = writeln!(
-            s,
-            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.3} | {} / {} | {:.1e} | {:.2} | {:.0} |",
-            c.depth_m,
-            c.charge_kg,
-            1e3 * crown.arrival_s,
-            crown.peak_velocity_m_s,
-            1e-6 * crown.peak_von_mises_pa,
-            invert.peak_velocity_m_s,
-            c.lining.plastic_particles,
-            c.lining.failed_particles,
-            c.energy_relative_error,
-            c.reduction_ratio,
-            c.wall_s
-        );
+         ground. Stresses and pressures are totals (the geostatic state included)."
+            .to_string(),
+    ];
+    let rows = study
+        .cases
+        .iter()
+        .map(|c| {
+            let (crown, invert) = (&c.gauges["crown"], &c.gauges["invert"]);
+            vec![
+                c.depth_m.to_string(),
+                c.charge_kg.to_string(),
+                format!("{:.2}", 1e3 * crown.arrival_s),
+                format!("{:.3}", crown.peak_velocity_m_s),
+                format!("{:.3}", 1e-6 * crown.peak_von_mises_pa),
+                format!("{:.3}", invert.peak_velocity_m_s),
+                format!(
+                    "{} / {}",
+                    c.lining.plastic_particles, c.lining.failed_particles
+                ),
+                format!("{:.1e}", c.energy_relative_error),
+                format!("{:.2}", c.reduction_ratio),
+                format!("{:.0}", c.wall_s),
+            ]
+        })
+        .collect();
+    let safe_depths = study
+        .request
+        .charges_kg
+        .iter()
+        .map(|w| {
+            let key = w.to_string();
+            let text = match (
+                study.safe_depth_m[&key],
+                study.scaled_safe_depth_m_kg13[&key],
+            ) {
+                (Some(d), Some(z)) => format!("{d} m ({z:.2} m/kg^(1/3))"),
+                _ => "deeper than every simulated depth".to_string(),
+            };
+            format!("{w} kg: {text}")
+        })
+        .collect();
+    ReportContent {
+        facts,
+        rows,
+        safe_depths,
+    }
+}
+
+/// `report.md`: the stamp if the gate failed, the facts, the cases, the safe depths, the
+/// checks.
+pub fn report_markdown(study: &Study) -> String {
+    use std::fmt::Write;
+    let content = report_content(study);
+    let mut s = String::new();
+    let _ = writeln!(s, "# Tunnel study\n");
+    if !study.validated {
+        let _ = writeln!(s, "**{NOT_VALIDATED}.**\n");
+    }
+    for fact in &content.facts {
+        let _ = writeln!(s, "- {fact}");
+    }
+    let _ = writeln!(s, "\n| {} |", CASE_COLUMNS.join(" | "));
+    let _ = writeln!(s, "|{}", "---|".repeat(CASE_COLUMNS.len()));
+    for row in &content.rows {
+        let _ = writeln!(s, "| {} |", row.join(" | "));
     }
     let _ = writeln!(s, "\n## Safe depth per charge\n");
-    for &w in &study.request.charges_kg {
-        let key = w.to_string();
-        let text = match (
-            study.safe_depth_m[&key],
-            study.scaled_safe_depth_m_kg13[&key],
-        ) {
-            (Some(d), Some(z)) => format!("{d} m ({z:.2} m/kg^(1/3))"),
-            _ => "deeper than every simulated depth".to_string(),
-        };
-        let _ = writeln!(s, "- {w} kg: {text}");
+    for line in &content.safe_depths {
+        let _ = writeln!(s, "- {line}");
     }
-    let _ = writeln!(
-        s,
-        "\nThe safe depth is the shallowest simulated depth at and below which no lining \
-         particle yielded or failed; the true one lies between it and the next shallower \
-         simulated depth.\n\n## Checks\n"
-    );
+    let _ = writeln!(s, "\n{SAFE_DEPTH_RULE}\n\n## Checks\n");
     for c in &study.checks {
         let _ = writeln!(
             s,
@@ -1246,6 +1301,50 @@ pub fn report_markdown(study: &Study) -> String {
         );
     }
     s
+}
+
+/// `report.html`: what `report.md` says, laid out like the verification suite's
+/// `index.html`, with the study's figures inline (self-contained: no file or network is
+/// fetched).
+pub fn report_html(study: &Study, figures: &[(String, Figure)]) -> String {
+    use crate::index::{checks_table, document, escape, inline};
+    use std::fmt::Write;
+    let content = report_content(study);
+    let mut html = "<h1>Tunnel study</h1>\n".to_string();
+    if !study.validated {
+        let _ = writeln!(html, "<p class=\"stamp\">{}.</p>", escape(NOT_VALIDATED));
+    }
+    html.push_str("<ul>\n");
+    for fact in &content.facts {
+        let _ = writeln!(html, "<li>{}</li>", escape(fact));
+    }
+    html.push_str("</ul>\n<table><tr>");
+    for column in CASE_COLUMNS {
+        let _ = write!(html, "<th>{}</th>", escape(column));
+    }
+    html.push_str("</tr>\n");
+    for row in &content.rows {
+        html.push_str("<tr>");
+        for cell in row {
+            let _ = write!(html, "<td>{}</td>", escape(cell));
+        }
+        html.push_str("</tr>\n");
+    }
+    html.push_str("</table>\n<h2>Safe depth per charge</h2>\n<ul>\n");
+    for line in &content.safe_depths {
+        let _ = writeln!(html, "<li>{}</li>", escape(line));
+    }
+    let _ = writeln!(
+        html,
+        "</ul>\n<p>{}</p>\n<h2>Checks</h2>",
+        escape(SAFE_DEPTH_RULE)
+    );
+    html.push_str(&checks_table(&study.checks));
+    for (name, figure) in figures {
+        let _ = writeln!(html, "<h2>{}</h2>", escape(name));
+        html.push_str(inline(&figure.to_svg()));
+    }
+    document("blastsph tunnel study", &html)
 }
 
 #[cfg(test)]
@@ -1333,15 +1432,96 @@ mod tests {
         }
     }
 
-    #[test]
-    fn bad_requests_are_refused_by_name() {
-        let request = StudyRequest {
+    fn request() -> StudyRequest {
+        StudyRequest {
             depths_m: vec![10.0],
             charges_kg: vec![500.0],
             soil: "dry-sand-backfill".into(),
             tunnel: Tunnel::default(),
             level: Level::Quick,
+        }
+    }
+
+    /// Depths and charges run ascending and once each, however they were asked for, so that
+    /// the monotony checks compare each case with the next larger charge and depth.
+    #[test]
+    fn a_request_runs_in_ascending_order() {
+        let ordered = StudyRequest {
+            depths_m: vec![20.0, 10.0, 15.0, 10.0],
+            charges_kg: vec![5000.0, 500.0],
+            ..request()
+        }
+        .in_order();
+        assert_eq!(ordered.depths_m, [10.0, 15.0, 20.0]);
+        assert_eq!(ordered.charges_kg, [500.0, 5000.0]);
+    }
+
+    /// `report.html` carries the NOT VALIDATED stamp of a study whose gate failed, the cases
+    /// table, every check and every figure inline, with text escaped.
+    #[test]
+    fn the_html_report_is_self_contained_and_stamped() {
+        let reading = GaugeReading {
+            arrival_s: 0.011,
+            peak_pressure_pa: 1e6,
+            peak_velocity_m_s: 0.33,
+            peak_displacement_m: 1e-3,
+            peak_von_mises_pa: 1.7e6,
         };
+        let gauges: BTreeMap<String, GaugeReading> = ["crown", "invert"]
+            .into_iter()
+            .map(|g| (g.to_string(), reading.clone()))
+            .collect();
+        let study = Study {
+            validated: false,
+            gate: vec![GateVerdict {
+                charge_kg: 500.0,
+                pass: false,
+                inputs_hash: "abc".into(),
+            }],
+            level: "quick",
+            model: MODEL,
+            request: request(),
+            cases: vec![CaseReport {
+                depth_m: 10.0,
+                charge_kg: 500.0,
+                gauges,
+                lining: Lining {
+                    plastic_particles: 0,
+                    failed_particles: 0,
+                },
+                energy_relative_error: 1e-7,
+                reduction_ratio: 1.1,
+                wall_s: 13.0,
+                stopped: None,
+            }],
+            safe_depth_m: [("500".to_string(), Some(10.0))].into(),
+            scaled_safe_depth_m_kg13: [("500".to_string(), Some(1.26))].into(),
+            checks: vec![Check::at_least("gate_500kg", 0.0, 1.0)],
+            wall_s: 100.0,
+        };
+        let figure = |title: &str| Figure {
+            title: title.into(),
+            ..Figure::default()
+        };
+        let html = report_html(
+            &study,
+            &[("a".into(), figure("a")), ("b".into(), figure("b"))],
+        );
+        assert!(html.contains(NOT_VALIDATED));
+        assert!(
+            html.contains("<td>1.700</td>"),
+            "the crown's peak von Mises in MPa"
+        );
+        assert!(html.contains("gate_500kg"));
+        assert_eq!(html.matches("<svg").count(), 2);
+        assert!(!html.contains("<?xml") && !html.contains("src=\"http"));
+        assert!(html.contains("m/kg^(1/3)"));
+        assert!(report_markdown(&study).contains("| 10 | 500 | 11.00 | 0.330 | 1.700 |"));
+    }
+
+    #[test]
+    fn bad_requests_are_refused_by_name() {
+        let request = request();
         assert!(validate(&request).is_ok());
         let refused = |r: StudyRequest, field: &str| match validate(&r) {
             Err(VerifyError::BadValue { field: f, .. }) => assert_eq!(f, field),

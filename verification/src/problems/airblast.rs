@@ -839,6 +839,7 @@ fn scaling(
                     series(ta, charge_kg, Style::Line),
                     series(tb, SCALING_MASS_RATIO * charge_kg, Style::Markers),
                 ],
+                ..Panel::default()
             }
         })
         .collect();
@@ -907,6 +908,7 @@ fn outputs(name: &str, s: &Settings, m: &Measured) -> Result<(Table, Figure), Ve
                     style: Style::Markers,
                 },
             ],
+            ..Panel::default()
         });
     }
     let gauges: Vec<&Gauge> = m.run.gauges.iter().collect();

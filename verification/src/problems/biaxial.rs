@@ -664,12 +664,14 @@ fn figure(shears: &[Shear], envelopes: &[Envelope], seed: u64) -> Figure {
                 x_label: "axial strain".into(),
                 y_label: "σ1 − σ3 (Pa)".into(),
                 series: curves(&|r| r.sigma1 - r.sigma3),
+                ..Panel::default()
             },
             Panel {
                 title: "volumetric strain (compression positive)".into(),
                 x_label: "axial strain".into(),
                 y_label: "volumetric strain".into(),
                 series: curves(&|r| r.volumetric_strain),
+                ..Panel::default()
             },
             Panel {
                 title: "cohesion".into(),
@@ -679,6 +681,7 @@ fn figure(shears: &[Shear], envelopes: &[Envelope], seed: u64) -> Figure {
                     by_saturation(&|e| e.peak.cohesion, "peak"),
                     by_saturation(&|e| e.critical.cohesion, "critical state"),
                 ],
+                ..Panel::default()
             },
             Panel {
                 title: "friction angle".into(),
@@ -688,6 +691,7 @@ fn figure(shears: &[Shear], envelopes: &[Envelope], seed: u64) -> Figure {
                     by_saturation(&|e| e.peak.friction_angle_degrees, "peak"),
                     by_saturation(&|e| e.critical.friction_angle_degrees, "critical state"),
                 ],
+                ..Panel::default()
             },
         ],
     }

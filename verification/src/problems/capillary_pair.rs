@@ -156,6 +156,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             x_label: "gap S/R".into(),
             y_label: "F/(2πγR)".into(),
             series,
+            ..Panel::default()
         });
     }
     // the source paper's figure 5 trend: a larger bridge reaches farther and, once the

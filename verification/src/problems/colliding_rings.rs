@@ -336,6 +336,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
                 values: m.particles.iter().map(|q| q.2).collect(),
             }),
         }],
+        ..Panel::default()
     };
     let figure = Figure {
         title: format!(

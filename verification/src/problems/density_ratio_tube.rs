@@ -346,6 +346,7 @@ fn outputs(s: &Settings, samples: &[Sample]) -> (Table, Figure) {
                     style: Style::Line,
                 },
             ],
+            ..Panel::default()
         })
         .collect();
     let figure = Figure {

@@ -384,6 +384,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
                     style: Style::Line,
                 },
             ],
+            ..Panel::default()
         }],
     };
     Ok(ProblemOutput {

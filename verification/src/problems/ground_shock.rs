@@ -682,6 +682,7 @@ fn outputs(
             x_label: "t (ms)".into(),
             y_label: "radial stress (kPa)".into(),
             series,
+            ..Panel::default()
         });
     }
     let figure = Figure {

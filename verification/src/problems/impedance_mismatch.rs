@@ -646,6 +646,7 @@ fn outputs(name: &str, s: &Settings, profile: &[Sample]) -> (Table, Figure) {
                         style: Style::Line,
                     },
                 ],
+                ..Panel::default()
             }
         })
         .collect();

@@ -222,5 +222,6 @@ fn panel(title: &str, y_label: &str) -> Panel {
         x_label: "x".into(),
         y_label: y_label.into(),
         series: Vec::new(),
+        ..Panel::default()
     }
 }

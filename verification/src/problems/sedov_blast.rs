@@ -715,6 +715,7 @@ fn profile_outputs(s: &Settings, state: Option<&FinalState>) -> (Table, Figure) 
                         style: Style::Line,
                     },
                 ],
+                ..Panel::default()
             }
         })
         .collect();
@@ -738,6 +739,7 @@ fn profile_outputs(s: &Settings, state: Option<&FinalState>) -> (Table, Figure) 
                     values: state.density.clone(),
                 }),
             }],
+            ..Panel::default()
         });
     }
     let figure = Figure {

@@ -718,6 +718,7 @@ fn profile_outputs(
             x_label: "x".into(),
             y_label: FIELDS[k].into(),
             series,
+            ..Panel::default()
         });
     }
     if let Some(p) = profile {

@@ -658,6 +658,7 @@ pub fn run(
                     style: Style::Markers,
                 },
             ],
+            ..Panel::default()
         }],
     };
     Ok(ProblemOutput {

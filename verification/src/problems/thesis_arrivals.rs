@@ -114,6 +114,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
                     style: Style::Markers,
                 },
             ],
+            ..Panel::default()
         }],
     };
     Ok(ProblemOutput {

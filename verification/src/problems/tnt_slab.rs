@@ -505,6 +505,7 @@ fn outputs(s: &Settings, m: &Measured) -> (Table, Figure) {
                 style: Style::Line,
             },
         ],
+        ..Panel::default()
     })
     .collect();
     panels.push(Panel {
@@ -516,6 +517,7 @@ fn outputs(s: &Settings, m: &Measured) -> (Table, Figure) {
             points: sph(&m.end, 2),
             style: Style::Markers,
         }],
+        ..Panel::default()
     });
     let figure = Figure {
         title: format!(

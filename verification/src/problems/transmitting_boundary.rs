@@ -386,6 +386,7 @@ pub fn run(params: &Params, progress: &(dyn Fn(f64) + Sync)) -> Result<ProblemOu
                         },
                     })
                     .collect(),
+                ..Panel::default()
             })
         })
         .collect();
