@@ -1062,11 +1062,13 @@ pub fn figures(study: &Study, out: &Path) -> Result<Vec<(String, Figure)>, Verif
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &d| {
             (a.min(d), b.max(d))
         });
+    // a single depth still gets a visible yield line, a quarter of the depth to either side
+    let margin = if hi > lo { 0.0 } else { 0.25 * lo };
     peaks.series.push(Series {
         label: "lining yield stress".into(),
         points: vec![
-            (lo, 1e-6 * study.request.tunnel.lining_yield_pa),
-            (hi, 1e-6 * study.request.tunnel.lining_yield_pa),
+            (lo - margin, 1e-6 * study.request.tunnel.lining_yield_pa),
+            (hi + margin, 1e-6 * study.request.tunnel.lining_yield_pa),
         ],
         style: Style::Line,
     });
