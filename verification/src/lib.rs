@@ -27,6 +27,14 @@ pub mod vtk;
 
 use thiserror::Error;
 
+/// A reader of a table from `reference_data/`: CSV with a header row, whose `#` lines are
+/// comments (the first names the table's source).
+pub(crate) fn reference_table(table: &'static str) -> csv::Reader<&'static [u8]> {
+    csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(table.as_bytes())
+}
+
 /// How much work a problem does: `quick` for `cargo test`, `full` for convergence studies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -113,9 +113,7 @@ struct PeerPoint {
 /// The peer points of `reference_data/peer_work_precision.csv` (source in its first line).
 fn peer_points() -> Vec<PeerPoint> {
     const TABLE: &str = include_str!("../../reference_data/peer_work_precision.csv");
-    csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(TABLE.as_bytes())
+    crate::reference_table(TABLE)
         .deserialize()
         .collect::<Result<_, _>>()
         .expect("the peer table parses")

@@ -42,10 +42,7 @@ struct Case {
 }
 
 fn cases() -> Vec<Case> {
-    let mut reader = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(INITIAL_STATES.as_bytes());
-    reader
+    crate::reference_table(INITIAL_STATES)
         .records()
         .map(|row| {
             let row = row.expect("reference_data/riemann_toro_initial_states.csv is well formed");

@@ -49,9 +49,7 @@ fn positive(field: &str, value: f64) -> Result<f64, VerifyError> {
 
 /// The rows of a reference CSV whose first line is a `#` comment naming its source.
 fn reference_rows(table: &'static str) -> Vec<csv::StringRecord> {
-    csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(table.as_bytes())
+    crate::reference_table(table)
         .records()
         .collect::<Result<_, _>>()
         .expect("the reference table parses")
