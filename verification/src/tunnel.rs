@@ -732,7 +732,7 @@ pub fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
 }
 
 /// The quick level's resolution.
-const QUICK: Resolution = Resolution {
+pub const QUICK: Resolution = Resolution {
     across_charge: 4,
     across_lining: 2,
 };
@@ -823,8 +823,10 @@ fn case_folder(case: Case) -> String {
     format!("{}m-{}kg", case.depth_m, case.charge_kg)
 }
 
-/// One charge at every depth: its free field, then each section with and without the tunnel.
-fn run_charge(
+/// One charge at every depth: its free field, then each section with and without the tunnel,
+/// into `out` (`free-field/<W>kg/`, `cases/<d>m-<W>kg/section/` and
+/// `.../section-without-tunnel/`, each with its scene, gauge CSVs and snapshots).
+pub fn run_charge(
     charge_kg: f64,
     depths_m: &[f64],
     soil: &Soil,
