@@ -1528,7 +1528,7 @@ mod tests {
     }
 
     /// The crown's peak stresses at 10 m under 500 kg against particles across the lining
-    /// (printed; a study of the reduced model's convergence, about three minutes, so not in
+    /// (printed; a study of the reduced model's convergence, about five minutes, so not in
     /// the default run: `cargo test --release -p blastsph-verification
     /// crown_stress_against -- --ignored --nocapture`). The study's own two-resolution check
     /// runs on every `blastsph tunnel`.
