@@ -1,4 +1,5 @@
-//! `cargo bench --bench steps` (a few minutes, run on every change): kernel evaluation,
+//! `cargo bench --bench steps` (a few minutes, run on every change): kernel evaluation (and the
+//! shell-averaged kernel of spherical scenes),
 //! neighbour search (cell-grid build alone, and build plus the query of every particle; 10⁴
 //! and 10⁵ particles, 2D and 3D, jittered lattice, h = 1.2 Δx) and one full SPH step of 10⁵
 //! particles in 2D and in 3D. Throughput is reported in elements per second: kernel
@@ -7,7 +8,8 @@
 
 use blastsph_benchmarks::{gas_box, jittered_lattice};
 use blastsph_solver::neighbours::{find_neighbours, CellGrid, PairReach};
-use blastsph_solver::{Kernel, KernelShape};
+use blastsph_solver::radial::RadialKernel;
+use blastsph_solver::{Geometry, Kernel, KernelShape};
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::time::Duration;
 
@@ -25,6 +27,34 @@ fn kernels(c: &mut Criterion) {
             b.iter(|| {
                 q.iter()
                     .map(|&r| kernel.value(black_box(r), 1.0) + kernel.derivative(r, 1.0))
+                    .sum::<f64>()
+            })
+        });
+    }
+    group.finish();
+}
+
+/// The shell-averaged kernel of 1D spherical scenes, W̃(r_i, r_j; h) with both derivatives, for
+/// pairs as a shell lattice has them: gaps of 0–2h at radii of 1–100 h.
+fn shell_kernels(c: &mut Criterion) {
+    let mut group = c.benchmark_group("shell kernel");
+    let pairs: Vec<(f64, f64)> = (0..1000)
+        .map(|k| {
+            let radius = 10f64.powf(2.0 * (k % 100) as f64 / 100.0);
+            (radius, radius + 2.0 * (k / 100) as f64 / 10.0)
+        })
+        .collect();
+    group.throughput(Throughput::Elements(pairs.len() as u64));
+    for shape in [KernelShape::CubicSpline, KernelShape::WendlandC2] {
+        let kernel = RadialKernel::new(Geometry::Spherical, shape);
+        group.bench_function(BenchmarkId::new("value+derivatives", shape.name()), |b| {
+            b.iter(|| {
+                pairs
+                    .iter()
+                    .map(|&(r_i, r_j)| {
+                        let (w, d1, d2) = kernel.value_and_derivatives(black_box(r_i), r_j, 1.0);
+                        w + d1 + d2
+                    })
                     .sum::<f64>()
             })
         });
@@ -80,5 +110,5 @@ fn full_steps(c: &mut Criterion) {
     full_step::<3>(c);
 }
 
-criterion_group!(benches, kernels, neighbours, full_steps);
+criterion_group!(benches, kernels, shell_kernels, neighbours, full_steps);
 criterion_main!(benches);

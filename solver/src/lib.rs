@@ -9,6 +9,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod axisymmetric;
+pub mod block_steps;
 pub mod boundary;
 pub mod burn;
 pub mod dem;
@@ -40,6 +41,7 @@ pub use physics::{
 pub use radial::Geometry;
 pub use step::{
     ArtificialHeating, InitialState, PhaseTimes, PrescribedMotion, Simulation, SimulationConfig,
+    TimeSteps,
 };
 pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
 

@@ -93,3 +93,18 @@ pub fn gather<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
         .map(|i| sum_at(equation, &sources, partners, i))
         .collect()
 }
+
+/// The equation's output for the real particles `which` (in that order): the particles whose
+/// step ends now, with individual time steps.
+pub fn gather_at<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
+    equation: &E,
+    particles: &Particles<D>,
+    partners: &P,
+    which: &[usize],
+) -> Vec<E::Output> {
+    let sources = sources(equation, particles);
+    which
+        .par_iter()
+        .map(|&i| sum_at(equation, &sources, partners, i))
+        .collect()
+}

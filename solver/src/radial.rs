@@ -411,13 +411,14 @@ impl<const D: usize> PairEquation<D> for RadialDensity<'_> {
 /// Each real shell's velocity divergence ∇·v = −(1/ρ) Dρ/Dt of the shell density:
 /// −[Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i] with V = m/ρ (the same sum as the continuity
 /// density's), so it carries the hoop terms 2v/r (spherical) or v/r (cylindrical) that a
-/// planar dv/dr lacks. The source of the viscosity switch.
+/// planar dv/dr lacks. The source of the viscosity switch. For the real particles `which`.
 pub(crate) fn velocity_divergences<const D: usize>(
     particles: &Particles<D>,
     neighbours: &NeighbourList,
     kernel: &RadialKernel,
+    which: &[usize],
 ) -> Vec<f64> {
-    pairs::gather(&RadialDivergence { kernel }, particles, neighbours)
+    pairs::gather_at(&RadialDivergence { kernel }, particles, neighbours, which)
 }
 
 struct RadialDivergence<'a> {
@@ -474,7 +475,8 @@ impl<const D: usize> PairEquation<D> for RadialDivergence<'_> {
 /// ε̇_rr = ∇·v − 2v/r and ε̇_θθ = ε̇_φφ = v/r, the same ∇·v the pair sums give, so the stress
 /// conserves total energy as the pressure does. The Jaumann rate of s_rr is the 1D rate with
 /// two out-of-plane normal rates v/r (no spin in radial flow). `shear_modulus[m]` is material
-/// m's G (0 for a fluid); empty in a fluid scene.
+/// m's G (0 for a fluid); empty in a fluid scene. For the real particles `which`; the others
+/// keep their rates.
 pub fn radial_rates<const D: usize>(
     particles: &mut Particles<D>,
     neighbours: &NeighbourList,
@@ -482,6 +484,7 @@ pub fn radial_rates<const D: usize>(
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
     shear_modulus: &[f64],
+    which: &[usize],
 ) {
     let equation = RadialRates {
         kernel,
@@ -489,9 +492,9 @@ pub fn radial_rates<const D: usize>(
         energy,
         volume_form: !particles.density_rate.is_empty(),
     };
-    let rates = pairs::gather(&equation, particles, neighbours);
+    let rates = pairs::gather_at(&equation, particles, neighbours, which);
     let p = particles;
-    for (i, rate) in rates.into_iter().enumerate() {
+    for (&i, rate) in which.iter().zip(rates) {
         p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { rate.acceleration } else { 0.0 });
         p.energy_rate[i] = rate.heating;
         p.signal_speed[i] = rate.signal_speed;

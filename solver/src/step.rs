@@ -11,6 +11,7 @@
 //! signal speed, and the force criterion).
 
 use crate::axisymmetric::{self, PairGeometry};
+use crate::block_steps::{BlockSteps, NEIGHBOUR_STEP_RATIO};
 use crate::boundary::{Boundary, Domain};
 use crate::burn::ProgrammedBurn;
 use crate::eos::Material;
@@ -52,6 +53,26 @@ pub struct SimulationConfig {
     pub cfl: f64,
     /// A time step below this (s) stops the run as collapsed.
     pub min_time_step: f64,
+    /// One step for all particles, or each its own.
+    pub time_steps: TimeSteps,
+}
+
+/// How the particles share time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeSteps {
+    /// One step for all: the stable step of the most restrictive particle.
+    Global,
+    /// Each particle its own stable step, rounded down to a power of two and within a factor
+    /// 4 of its neighbours' (see [`crate::block_steps`]); the longest at most `max_ratio` (a
+    /// power of two) times the shortest. Particles between the ends of their steps are drifted
+    /// and their state predicted, so that their neighbours see them at the current time.
+    /// Radial scenes only.
+    Individual { max_ratio: u64 },
+}
+
+impl TimeSteps {
+    /// The largest `max_ratio` allowed.
+    pub const MAX_RATIO: u64 = 1 << 20;
 }
 
 impl Default for SimulationConfig {
@@ -65,6 +86,7 @@ impl Default for SimulationConfig {
             energy: EnergyEquation::OwnPressure,
             cfl: 0.3,
             min_time_step: 1e-15,
+            time_steps: TimeSteps::Global,
         }
     }
 }
@@ -87,6 +109,22 @@ impl SimulationConfig {
             ));
         }
         self.formulation.validate()?;
+        if let TimeSteps::Individual { max_ratio } = self.time_steps {
+            if !(max_ratio.is_power_of_two() && (2..=TimeSteps::MAX_RATIO).contains(&max_ratio)) {
+                return Err(SolverError::invalid(
+                    "time_steps max_ratio",
+                    max_ratio,
+                    &format!("a power of two from 2 to {}", TimeSteps::MAX_RATIO),
+                ));
+            }
+            if self.formulation.geometry() == Geometry::Planar {
+                return Err(SolverError::invalid(
+                    "time_steps",
+                    "individual",
+                    "in radial (cylindrical or spherical) scenes",
+                ));
+            }
+        }
         let v = &self.viscosity;
         if self.formulation.is_total_lagrangian() {
             // the total-Lagrangian viscosity is a bulk viscosity of α and β alone
@@ -163,6 +201,9 @@ pub struct Simulation<const D: usize> {
     half: HalfStep<D>,
     time: f64,
     steps: u64,
+    /// Particle rate evaluations so far (each step's real particles, or with individual time
+    /// steps those whose steps ended).
+    particle_updates: u64,
     /// The rate loops' sums at the last force evaluation.
     totals: RateTotals<D>,
     wall_impulse: Vector<D>,
@@ -179,6 +220,8 @@ pub struct Simulation<const D: usize> {
     reference: Option<ReferenceConfiguration<D>>,
     /// Particles whose motion is prescribed.
     prescribed: Option<std::sync::Arc<dyn PrescribedMotion<D>>>,
+    /// Individual time steps: the hierarchy of the current block.
+    blocks: Option<BlockSteps>,
 }
 
 /// A motion prescribed for some particles, by particle id: their acceleration at a time
@@ -263,6 +306,13 @@ impl<const D: usize> Simulation<D> {
             one_each("lighting times", burn.lighting_time.len())?;
         }
         let external = state.held_in_equilibrium || state.prescribed.is_some();
+        if external && config.time_steps != TimeSteps::Global {
+            return Err(SolverError::invalid(
+                "held in equilibrium or prescribed motion",
+                "with individual time steps",
+                "global time steps (the external forces' work is booked per global step)",
+            ));
+        }
         if external && config.formulation.is_total_lagrangian() {
             return Err(SolverError::invalid(
                 "held in equilibrium or prescribed motion",
@@ -389,6 +439,7 @@ impl<const D: usize> Simulation<D> {
             half: HalfStep::default(),
             time: 0.0,
             steps: 0,
+            particle_updates: 0,
             totals: RateTotals::default(),
             wall_impulse: Vector::zeros(),
             transmitted_energy: 0.0,
@@ -398,6 +449,7 @@ impl<const D: usize> Simulation<D> {
             burn,
             reference,
             prescribed: state.prescribed,
+            blocks: None,
         };
         if let Some(stress) = state.deviatoric_stress {
             if !sim.particles.deviatoric_stress.is_empty() {
@@ -464,8 +516,13 @@ impl<const D: usize> Simulation<D> {
     pub fn time(&self) -> f64 {
         self.time
     }
+    /// Steps taken (with individual time steps, the times at which some particle's step ended).
     pub fn steps(&self) -> u64 {
         self.steps
+    }
+    /// Particle rate evaluations so far: the work a run has done.
+    pub fn particle_updates(&self) -> u64 {
+        self.particle_updates
     }
     pub fn config(&self) -> &SimulationConfig {
         &self.config
@@ -509,7 +566,11 @@ impl<const D: usize> Simulation<D> {
     /// One stable step toward `t_end`, shortened so that the run ends exactly there: where one
     /// stable step would leave a sliver behind, it takes half the remainder (two equal steps).
     /// For callers that look at the state after every step; `run_until` loops over it.
+    /// With individual time steps: to the next time at which some particle's step ends.
     pub fn step_toward(&mut self, t_end: f64) -> Result<(), SolverError> {
+        if let TimeSteps::Individual { max_ratio } = self.config.time_steps {
+            return self.step_individually(t_end, max_ratio);
+        }
         let dt = self.stable_time_step()?;
         let remaining = t_end - self.time;
         let dt = if dt >= remaining * (1.0 - 1e-9) {
@@ -526,19 +587,27 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
-    /// One step of length `dt`.
+    /// One global step of length `dt`.
     pub fn step(&mut self, dt: f64) -> Result<(), SolverError> {
+        if self.config.time_steps != TimeSteps::Global {
+            return Err(SolverError::invalid(
+                "step(dt)",
+                "with individual time steps",
+                "step_toward or run_until, which let each particle take its own step",
+            ));
+        }
         let start = Instant::now();
         self.reorder_for_locality();
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        self.kick(0.5 * dt);
-        self.drift_and_predict(dt);
+        let all: Vec<usize> = (0..self.particles.n_real()).collect();
+        self.kick(&all, |_| 0.5 * dt);
+        self.drift_and_predict(dt, &all);
         self.times.integration += start.elapsed().as_secs_f64();
         let before = self.totals;
         self.evaluate_rates(self.time + dt)?;
         let start = Instant::now();
-        self.close_kick(0.5 * dt);
+        self.close_kick(&all, |_| 0.5 * dt);
         // the trapezoid rule, as the kicks integrate v and e
         let after = self.totals;
         self.wall_impulse += (before.wall_force + after.wall_force) * (0.5 * dt);
@@ -550,35 +619,206 @@ impl<const D: usize> Simulation<D> {
             (before.transmitted_power + after.transmitted_power) * (0.5 * dt);
         self.time += dt;
         self.steps += 1;
+        self.particle_updates += all.len() as u64;
         let health = self.check_health();
         self.times.integration += start.elapsed().as_secs_f64();
         health
     }
 
+    /// One step of individual time steps toward `t_end`: every particle drifts to the next
+    /// time at which some particle's step ends and has its state predicted there; the
+    /// particles whose steps end there (and those a neighbour's much shorter step wakes) get
+    /// their rates, close their steps and start new ones.
+    fn step_individually(&mut self, t_end: f64, max_ratio: u64) -> Result<(), SolverError> {
+        let mut blocks = match self.blocks.take() {
+            Some(blocks) if !blocks.finished() => {
+                if t_end < blocks.end() {
+                    self.blocks = Some(blocks);
+                    return Err(SolverError::invalid(
+                        "t_end",
+                        t_end,
+                        "no earlier than the end of the open block of individual steps",
+                    ));
+                }
+                blocks
+            }
+            _ => self.start_block(t_end, max_ratio)?,
+        };
+        let start = Instant::now();
+        let dt = blocks.advance();
+        self.time = blocks.time();
+        self.drift_on_half_steps(dt);
+        let all: Vec<usize> = (0..self.particles.n_real()).collect();
+        self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
+        self.times.integration += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        self.find_smoothing_lengths_and_neighbours()?;
+        self.times.neighbours += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let active = self.ending_and_woken(&mut blocks);
+        self.evaluate_density();
+        self.evaluate_state(self.time);
+        self.times.density += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        self.evaluate_radial_rates(&active, |i| blocks.step_of(i));
+        self.times.forces += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        self.close_kick(&active, |i| 0.5 * blocks.step_of(i));
+        self.steps += 1;
+        self.particle_updates += active.len() as u64;
+        let started = if blocks.finished() {
+            Ok(())
+        } else {
+            self.start_steps(&mut blocks, &active)
+        };
+        self.blocks = Some(blocks);
+        let health = started.and_then(|()| self.check_health());
+        self.times.integration += start.elapsed().as_secs_f64();
+        health
+    }
+
+    /// A new block of individual steps, every particle at the end of its step: each starts
+    /// the longest step its stability and the limiter allow (the limiter applied until no
+    /// step changes), and kicks to its half step.
+    fn start_block(&mut self, t_end: f64, max_ratio: u64) -> Result<BlockSteps, SolverError> {
+        // the shortest step's diagnosis, should it have collapsed
+        self.stable_time_step()?;
+        let n = self.particles.n_real();
+        let stable: Vec<f64> = (0..n).map(|i| self.stable_step_of(i)).collect();
+        let mut blocks = BlockSteps::new(self.time, &stable, max_ratio, t_end);
+        for (i, &dt) in stable.iter().enumerate() {
+            blocks
+                .start_step(i, dt, u64::MAX)
+                .ok_or_else(|| self.collapse(i, dt))?;
+        }
+        let mut limited = true;
+        while limited {
+            limited = false;
+            for (i, &dt) in stable.iter().enumerate() {
+                let shortest = self.shortest_neighbour_step(&blocks, i);
+                if blocks.ticks_of(i) > NEIGHBOUR_STEP_RATIO * shortest {
+                    blocks
+                        .start_step(i, dt, shortest)
+                        .ok_or_else(|| self.collapse(i, dt))?;
+                    limited = true;
+                }
+            }
+        }
+        let all: Vec<usize> = (0..n).collect();
+        self.kick(&all, |i| 0.5 * blocks.step_of(i));
+        self.save_half(&all);
+        Ok(blocks)
+    }
+
+    /// The shortest step (ticks) among real particle i's neighbours (u64::MAX without any).
+    fn shortest_neighbour_step(&self, blocks: &BlockSteps, i: usize) -> u64 {
+        let n = self.particles.n_real();
+        let mut shortest = u64::MAX;
+        for part in self.neighbours.parts(i) {
+            for &j in part.iter().filter(|&&j| (j as usize) < n) {
+                shortest = shortest.min(blocks.ticks_of(j as usize));
+            }
+        }
+        shortest
+    }
+
+    /// x += v^{n+½}·dt for every real particle, each with the velocity of its own half step
+    /// (a shell that crosses the origin comes out on the other side).
+    fn drift_on_half_steps(&mut self, dt: f64) {
+        let (p, half) = (&mut self.particles, &mut self.half);
+        for i in 0..p.n_real() {
+            p.position[i] += half.velocity[i] * dt;
+            if p.position[i][0] < 0.0 {
+                p.position[i] = -p.position[i];
+                half.velocity[i] = -half.velocity[i];
+                p.acceleration[i] = -p.acceleration[i];
+            }
+        }
+    }
+
+    /// The real particles whose steps end now, and those woken by a neighbour's step more than
+    /// four times shorter: a woken particle's step ends now, its half-step values and position
+    /// are corrected to those of a step that had been this long from its start (its kick and
+    /// drift used the longer one), and its state is predicted at the new end.
+    fn ending_and_woken(&mut self, blocks: &mut BlockSteps) -> Vec<usize> {
+        let n = self.particles.n_real();
+        let (mut active, mut woken) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            if blocks.ends_now(i) {
+                active.push(i);
+            } else if blocks.must_wake(i, self.shortest_neighbour_step(blocks, i)) {
+                let (old, new) = blocks.end_early(i);
+                let shortened = 0.5 * (old - new);
+                let (p, half) = (&mut self.particles, &mut self.half);
+                let a = p.acceleration[i];
+                p.position[i] -= a * (shortened * new);
+                half.velocity[i] -= a * shortened;
+                half.internal_energy[i] -= p.energy_rate[i] * shortened;
+                if !half.density.is_empty() {
+                    half.density[i] -= p.density_rate[i] * shortened;
+                }
+                if !half.deviatoric_stress.is_empty() {
+                    let rate = p.stress_rate[i];
+                    half.deviatoric_stress[i] -= rate * shortened;
+                }
+                active.push(i);
+                woken.push(i);
+            }
+        }
+        self.kick_from_half(&woken, |i| 0.5 * blocks.step_of(i));
+        active
+    }
+
+    /// Starts the next step of each of the real particles `which`, whose steps ended now with
+    /// fresh rates: its stable step within the limiter, then the kick to its half step.
+    fn start_steps(&mut self, blocks: &mut BlockSteps, which: &[usize]) -> Result<(), SolverError> {
+        for &i in which {
+            let dt = self.stable_step_of(i);
+            let shortest = self.shortest_neighbour_step(blocks, i);
+            if !(dt >= self.config.min_time_step) || blocks.start_step(i, dt, shortest).is_none() {
+                return Err(self.collapse(i, dt));
+            }
+        }
+        self.kick(which, |i| 0.5 * blocks.step_of(i));
+        self.save_half(which);
+        Ok(())
+    }
+
     /// The stable global time step, or a diagnosis if it has collapsed.
     pub fn stable_time_step(&self) -> Result<f64, SolverError> {
-        let p = &self.particles;
         let (mut dt, mut limiting) = (f64::INFINITY, 0);
-        for i in 0..p.n_real() {
-            let h = p.smoothing_length[i];
-            let courant = h / p.signal_speed[i];
-            let force = (h / p.acceleration[i].norm()).sqrt();
-            let dt_i = self.config.cfl * courant.min(force);
+        for i in 0..self.particles.n_real() {
+            let dt_i = self.stable_step_of(i);
             if dt_i < dt {
                 (dt, limiting) = (dt_i, i);
             }
         }
         if !(dt >= self.config.min_time_step) {
-            return Err(SolverError::TimeStepCollapse {
-                step: self.steps,
-                time: self.time,
-                dt,
-                floor: self.config.min_time_step,
-                particle: p.id[limiting],
-                material: self.materials[p.material_of(limiting)].name.clone(),
-            });
+            return Err(self.collapse(limiting, dt));
         }
         Ok(dt)
+    }
+
+    /// Particle i's stable step: C·min(h_i/v_sig,i, √(h_i/|a_i|)).
+    fn stable_step_of(&self, i: usize) -> f64 {
+        let p = &self.particles;
+        let h = p.smoothing_length[i];
+        let courant = h / p.signal_speed[i];
+        let force = (h / p.acceleration[i].norm()).sqrt();
+        self.config.cfl * courant.min(force)
+    }
+
+    /// The diagnosis of particle i's stable step `dt` below the floor.
+    fn collapse(&self, i: usize, dt: f64) -> SolverError {
+        let p = &self.particles;
+        SolverError::TimeStepCollapse {
+            step: self.steps,
+            time: self.time,
+            dt,
+            floor: self.config.min_time_step,
+            particle: p.id[i],
+            material: self.materials[p.material_of(i)].name.clone(),
+        }
     }
 
     /// Sorts particles along a space-filling curve so that neighbours sit close in memory; every
@@ -599,28 +839,84 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// v += a·dt, e += ė·dt, ρ += ρ̇·dt (continuity), s += ṡ·dt (solids, then the return to
-    /// the yield surface) for the real particles.
-    fn kick(&mut self, dt: f64) {
+    /// the yield surface) for the real particles `which`, each by its own `dt(i)`.
+    fn kick(&mut self, which: &[usize], dt: impl Fn(usize) -> f64) {
         let p = &mut self.particles;
-        for i in 0..p.n_real() {
+        let (continuity, solids) = (!p.density_rate.is_empty(), !p.stress_rate.is_empty());
+        for &i in which {
+            let dt = dt(i);
             p.velocity[i] += p.acceleration[i] * dt;
             p.internal_energy[i] += p.energy_rate[i] * dt;
+            if continuity {
+                p.density[i] += p.density_rate[i] * dt;
+            }
+            if solids {
+                let rate = p.stress_rate[i];
+                p.deviatoric_stress[i] += rate * dt;
+            }
         }
-        for (rho, rate) in p.density.iter_mut().zip(&p.density_rate) {
-            *rho += rate * dt;
-        }
-        for i in 0..p.stress_rate.len() {
-            let rate = p.stress_rate[i];
-            p.deviatoric_stress[i] += rate * dt;
-        }
-        self.return_to_yield_surface();
+        self.return_to_yield_surface(which);
     }
 
-    /// Radial return of every solid particle's stress; the plastic strain and the plastic work
-    /// per unit mass (current yield stress × Δε_p / ρ) grow with each return.
-    fn return_to_yield_surface(&mut self) {
+    /// The state of the real particles `which` a time `dt(i)` after their half step, from the
+    /// values kept there and the rates of the last force evaluation: v = v^{n+½} + a·dt (and
+    /// e, ρ, s; the plastic strain and work back at their half-step values, then the return
+    /// to the yield surface).
+    fn kick_from_half(&mut self, which: &[usize], dt: impl Fn(usize) -> f64) {
+        let (p, half) = (&mut self.particles, &self.half);
+        let (continuity, solids) = (!p.density_rate.is_empty(), !p.stress_rate.is_empty());
+        for &i in which {
+            let dt = dt(i);
+            p.velocity[i] = half.velocity[i] + p.acceleration[i] * dt;
+            p.internal_energy[i] = half.internal_energy[i] + p.energy_rate[i] * dt;
+            if continuity {
+                p.density[i] = half.density[i] + p.density_rate[i] * dt;
+            }
+            if solids {
+                p.deviatoric_stress[i] = half.deviatoric_stress[i] + p.stress_rate[i] * dt;
+                p.plastic_strain[i] = half.plastic_strain[i];
+                p.plastic_work[i] = half.plastic_work[i];
+            }
+        }
+        if solids {
+            self.return_to_yield_surface(which);
+        }
+    }
+
+    /// Keeps the half-step values of the real particles `which`.
+    fn save_half(&mut self, which: &[usize]) {
+        let (p, half) = (&self.particles, &mut self.half);
+        let n = p.n_real();
+        let (continuity, solids) = (!p.density_rate.is_empty(), !p.stress_rate.is_empty());
+        half.velocity.resize(n, Vector::zeros());
+        half.internal_energy.resize(n, 0.0);
+        half.density.resize(if continuity { n } else { 0 }, 0.0);
+        let solid_n = if solids { n } else { 0 };
+        half.deviatoric_stress.resize(solid_n, Tensor::zeros());
+        half.plastic_strain.resize(solid_n, 0.0);
+        half.plastic_work.resize(solid_n, 0.0);
+        for &i in which {
+            half.velocity[i] = p.velocity[i];
+            half.internal_energy[i] = p.internal_energy[i];
+            if continuity {
+                half.density[i] = p.density[i];
+            }
+            if solids {
+                half.deviatoric_stress[i] = p.deviatoric_stress[i];
+                half.plastic_strain[i] = p.plastic_strain[i];
+                half.plastic_work[i] = p.plastic_work[i];
+            }
+        }
+    }
+
+    /// Radial return of the stress of the solid particles among `which`; the plastic strain and
+    /// the plastic work per unit mass (current yield stress × Δε_p / ρ) grow with each return.
+    fn return_to_yield_surface(&mut self, which: &[usize]) {
         let p = &mut self.particles;
-        for i in 0..p.plastic_strain.len() {
+        if p.plastic_strain.is_empty() {
+            return;
+        }
+        for &i in which {
             if let Some(strength) = &self.materials[p.material_of(i)].strength {
                 // the pressure and strain rate of the last force evaluation
                 let state = p.yield_state(i);
@@ -637,8 +933,9 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// x += v^{n+½}·dt, keeps the half-step values and sets the predicted ones for the forces.
-    fn drift_and_predict(&mut self, dt: f64) {
+    /// x += v^{n+½}·dt, keeps the half-step values of the real particles `which` (all of them
+    /// in a global step) and sets their predicted ones for the forces.
+    fn drift_and_predict(&mut self, dt: f64, which: &[usize]) {
         let p = &mut self.particles;
         let n = p.n_real();
         for i in 0..n {
@@ -662,52 +959,20 @@ impl<const D: usize> Simulation<D> {
         if self.reference.is_none() {
             self.domain.wrap_periodic(p);
         }
-        self.half.velocity.clear();
-        self.half.velocity.extend_from_slice(&p.velocity[..n]);
-        self.half.internal_energy.clear();
-        self.half
-            .internal_energy
-            .extend_from_slice(&p.internal_energy[..n]);
-        self.half.density.clear();
-        if !p.density_rate.is_empty() {
-            self.half.density.extend_from_slice(&p.density[..n]);
-        }
-        self.half.deviatoric_stress.clear();
-        self.half.plastic_strain.clear();
-        self.half.plastic_work.clear();
-        if !p.plastic_strain.is_empty() {
-            self.half
-                .deviatoric_stress
-                .extend_from_slice(&p.deviatoric_stress[..n]);
-            self.half
-                .plastic_strain
-                .extend_from_slice(&p.plastic_strain);
-            self.half.plastic_work.extend_from_slice(&p.plastic_work);
-        }
-        self.kick(0.5 * dt);
+        self.save_half(which);
+        self.kick_from_half(which, |_| 0.5 * dt);
     }
 
-    /// v = v^{n+½} + a^{n+1}·dt (and e, ρ) from the values kept at the half step.
-    fn close_kick(&mut self, dt: f64) {
-        let p = &mut self.particles;
-        for i in 0..p.n_real() {
-            p.velocity[i] = self.half.velocity[i] + p.acceleration[i] * dt;
-            p.internal_energy[i] = self.half.internal_energy[i] + p.energy_rate[i] * dt;
-        }
-        for (i, rho0) in self.half.density.iter().enumerate() {
-            p.density[i] = rho0 + p.density_rate[i] * dt;
-        }
+    /// v = v^{n+½} + a^{n+1}·dt(i) (and e, ρ, s) from the values kept at the half step, for the
+    /// real particles `which`.
+    fn close_kick(&mut self, which: &[usize], dt: impl Fn(usize) -> f64) {
+        self.kick_from_half(which, dt);
         // the closed density is a state the particle has held too
-        for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
-            *peak = peak.max(*rho);
-        }
-        if !p.plastic_strain.is_empty() {
-            for (i, s0) in self.half.deviatoric_stress.iter().enumerate() {
-                p.deviatoric_stress[i] = s0 + p.stress_rate[i] * dt;
+        let p = &mut self.particles;
+        if !p.peak_density.is_empty() {
+            for &i in which {
+                p.peak_density[i] = p.peak_density[i].max(p.density[i]);
             }
-            p.plastic_strain.copy_from_slice(&self.half.plastic_strain);
-            p.plastic_work.copy_from_slice(&self.half.plastic_work);
-            self.return_to_yield_surface();
         }
     }
 
@@ -739,29 +1004,10 @@ impl<const D: usize> Simulation<D> {
         self.particles.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        if let Some(radial_kernel) = &self.radial_kernel {
-            if let Some(switch) = self.config.viscosity.switch {
-                let divergence =
-                    radial::velocity_divergences(&self.particles, &self.neighbours, radial_kernel);
-                let alpha_max = self.config.viscosity.alpha;
-                relax_viscosity(
-                    &mut self.particles,
-                    switch,
-                    alpha_max,
-                    time - self.time,
-                    |i| divergence[i],
-                );
-            }
-            let shear_modulus = shear_moduli(&self.materials);
-            self.totals = RateTotals::default();
-            radial::radial_rates(
-                &mut self.particles,
-                &self.neighbours,
-                radial_kernel,
-                &self.config.viscosity,
-                self.config.energy,
-                &shear_modulus,
-            );
+        if self.radial_kernel.is_some() {
+            let all: Vec<usize> = (0..self.particles.n_real()).collect();
+            let dt = time - self.time;
+            self.evaluate_radial_rates(&all, |_| dt);
         } else {
             self.evaluate_pair_rates(time);
         }
@@ -770,6 +1016,40 @@ impl<const D: usize> Simulation<D> {
         self.apply_prescribed_motion(time);
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// The radial pair passes for the real particles `which`, whose steps (of length `dt(i)`)
+    /// end at this state: the velocity divergence and each particle's α (viscosity switch),
+    /// then the radial rates.
+    fn evaluate_radial_rates(&mut self, which: &[usize], dt: impl Fn(usize) -> f64) {
+        let Some(radial_kernel) = &self.radial_kernel else {
+            return;
+        };
+        if let Some(switch) = self.config.viscosity.switch {
+            let divergence = radial::velocity_divergences(
+                &self.particles,
+                &self.neighbours,
+                radial_kernel,
+                which,
+            );
+            let alpha_max = self.config.viscosity.alpha;
+            let updates = which
+                .iter()
+                .zip(divergence)
+                .map(|(&i, divergence)| (i, dt(i), divergence));
+            relax_viscosity(&mut self.particles, switch, alpha_max, updates);
+        }
+        let shear_modulus = shear_moduli(&self.materials);
+        self.totals = RateTotals::default();
+        radial::radial_rates(
+            &mut self.particles,
+            &self.neighbours,
+            radial_kernel,
+            &self.config.viscosity,
+            self.config.energy,
+            &shear_modulus,
+            which,
+        );
     }
 
     /// Lysmer & Kuhlemeyer's viscous traction at each transmitting side (see
@@ -948,13 +1228,9 @@ impl<const D: usize> Simulation<D> {
             _ => None,
         };
         if let (Some(switch), Some(gradients)) = (switch, &gradients) {
-            relax_viscosity(
-                p,
-                switch,
-                self.config.viscosity.alpha,
-                time - self.time,
-                |i| gradients[i].trace() + hoop_rate_of(i),
-            );
+            let dt = time - self.time;
+            let updates = (0..p.n_real()).map(|i| (i, dt, gradients[i].trace() + hoop_rate_of(i)));
+            relax_viscosity(p, switch, self.config.viscosity.alpha, updates);
         }
         self.totals = physics::compute_rates(
             p,
@@ -1223,19 +1499,19 @@ fn shear_moduli(materials: &[Material]) -> Vec<f64> {
         .collect()
 }
 
-/// Each particle's viscosity α over the step of length `dt` that ends at this state, with the
-/// state's velocity divergence (see [`ViscositySwitch::relax`]).
+/// The viscosity α of each particle i in `updates` = (i, dt, ∇·v) over its step of length dt
+/// that ends at this state, with the state's velocity divergence (see
+/// [`ViscositySwitch::relax`]).
 fn relax_viscosity<const D: usize>(
     p: &mut Particles<D>,
     switch: ViscositySwitch,
     alpha_max: f64,
-    dt: f64,
-    divergence: impl Fn(usize) -> f64,
+    updates: impl IntoIterator<Item = (usize, f64, f64)>,
 ) {
-    for i in 0..p.n_real() {
+    for (i, dt, divergence) in updates {
         let c_over_h = p.sound_speed[i] / p.smoothing_length[i];
         p.viscosity_alpha[i] =
-            switch.relax(p.viscosity_alpha[i], alpha_max, divergence(i), c_over_h, dt);
+            switch.relax(p.viscosity_alpha[i], alpha_max, divergence, c_over_h, dt);
     }
 }
 
@@ -1282,7 +1558,9 @@ mod tests {
             let gas = vec![Material::new("gas", IdealGas::new(1.4).unwrap())];
             let sim = Simulation::new(&init, gas, Domain::open(), config).unwrap();
             let kernel = sim.radial_kernel.as_ref().unwrap();
-            let divergence = radial::velocity_divergences(&sim.particles, &sim.neighbours, kernel);
+            let all: Vec<usize> = (0..sim.particles.n_real()).collect();
+            let divergence =
+                radial::velocity_divergences(&sim.particles, &sim.neighbours, kernel, &all);
             let p = &sim.particles;
             for i in (0..p.n_real()).filter(|&i| p.position[i][0] < 0.4) {
                 let relative = divergence[i] / (dimensions * a) - 1.0;

@@ -2,6 +2,7 @@
 //! `--set KEY=VALUE`, parsed with a named error for every bad value.
 
 use crate::{Level, VerifyError};
+use blastsph_solver::TimeSteps;
 use std::collections::BTreeMap;
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
@@ -19,6 +20,16 @@ impl ParamSpec {
     /// A parameter with one default for both levels.
     pub fn new(key: &'static str, default: impl ToString, help: &'static str) -> Self {
         Self::per_level(key, default.to_string(), default.to_string(), help)
+    }
+
+    /// `step_ratio`, read by [`Params::time_steps`], for problems whose scenes may take
+    /// individual time steps (radial ones).
+    pub fn step_ratio() -> Self {
+        Self::new(
+            "step_ratio",
+            1,
+            "individual time steps: each particle's up to this power of two times the shortest (1: one global step)",
+        )
     }
 
     pub fn per_level(
@@ -103,7 +114,6 @@ impl Params {
             .unwrap_or_else(|| panic!("problem {} reads undeclared parameter {key}", self.problem))
     }
 
-    /// A number in [lo, hi].
     /// A free-text value (a material name, checked by whoever uses it).
     pub fn text(&self, key: &str) -> String {
         self.raw(key).to_string()
@@ -115,6 +125,27 @@ impl Params {
         self.number("cfl", lo, hi)
     }
 
+    /// `step_ratio`: 1 for one global time step, or a power of two for individual steps, the
+    /// longest at most that many times the shortest.
+    pub fn time_steps(&self) -> Result<TimeSteps, VerifyError> {
+        let raw = self.raw("step_ratio");
+        match raw.trim().parse::<u64>() {
+            Ok(1) => Ok(TimeSteps::Global),
+            Ok(ratio) if ratio.is_power_of_two() && ratio <= TimeSteps::MAX_RATIO => {
+                Ok(TimeSteps::Individual { max_ratio: ratio })
+            }
+            _ => Err(VerifyError::bad_value(
+                "step_ratio",
+                raw,
+                &format!(
+                    "1 (global steps) or a power of two up to {}",
+                    TimeSteps::MAX_RATIO
+                ),
+            )),
+        }
+    }
+
+    /// A number in [lo, hi].
     pub fn number(&self, key: &str, lo: f64, hi: f64) -> Result<f64, VerifyError> {
         let raw = self.raw(key);
         match raw.trim().parse::<f64>() {

@@ -112,7 +112,8 @@ pub struct Record {
 
 impl Run {
     /// Records what the simulation cost: wall seconds since `start`, steps and seconds per
-    /// phase.
+    /// phase; with individual time steps also the particle updates (a global step updates
+    /// every particle, so there they are steps × particles).
     pub fn record_work<const D: usize>(
         &mut self,
         sim: &blastsph_solver::Simulation<D>,
@@ -121,6 +122,10 @@ impl Run {
         self.wall_s = start.elapsed().as_secs_f64();
         self.steps = sim.steps();
         self.phase_s = phase_seconds(&sim.phase_times());
+        if sim.config().time_steps != blastsph_solver::TimeSteps::Global {
+            self.metrics
+                .insert("particle_updates".into(), sim.particle_updates() as f64);
+        }
     }
 
     /// Builds the scene and runs it to `t_end` (progress as a fraction of it), booking the

@@ -178,6 +178,7 @@ fn settings(params: &Params, burst: Burst, charge_kg: f64) -> Result<Settings, V
         detonation_speed,
         ambient_pressure: library.value("air", "p0")?,
         config: SimulationConfig {
+            time_steps: blastsph_solver::TimeSteps::Global,
             formulation: Formulation::Spherical(ShellDensity::Continuity(
                 SmoothingLength::FollowDensityFloored { eta },
             )),

@@ -105,6 +105,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let t_end = 0.8 * (X0 / (-slowest).max(1e-300)).min((1.0 - X0) / fastest.max(1e-300));
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
+        time_steps: blastsph_solver::TimeSteps::Global,
         formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
             eta,
         })),

@@ -155,6 +155,7 @@ pub fn info() -> super::ProblemInfo {
                 "Morris-Monaghan switch: the viscosity's alpha away from shocks (1: off)",
             ),
             ParamSpec::new("eta", 2.0, "smoothing length h = η·(shell width)"),
+            ParamSpec::step_ratio(),
         ],
     }
 }
@@ -192,6 +193,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         reference_soil: soil(&params.text("soil"))?,
         soil_material: soil_model(&params.text("soil"))?,
         config: SimulationConfig {
+            time_steps: params.time_steps()?,
             formulation: Formulation::Spherical(ShellDensity::Continuity(
                 SmoothingLength::FollowDensityFloored { eta },
             )),

@@ -227,6 +227,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let exact = Exact::new(&*material_a.eos, &*material_b.eos, (rho_a, rho_b), v, layer)?;
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
+        time_steps: blastsph_solver::TimeSteps::Global,
         // continuity density keeps the density jump at the interface sharp (see
         // Density::Continuity for the volume-weighted form used across materials)
         formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {

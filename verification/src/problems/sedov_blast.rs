@@ -27,7 +27,7 @@ use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
     ArtificialViscosity, Boundary, Density, Domain, EnergyEquation, EquationOfState, Formulation,
     Geometry, IdealGas, Kernel, KernelShape, Material, ShellDensity, Simulation, SimulationConfig,
-    Vector,
+    TimeSteps, Vector,
 };
 use std::collections::BTreeMap;
 
@@ -106,43 +106,52 @@ pub fn is_sedov(name: &str) -> bool {
 }
 
 fn info(v: &Variant) -> super::ProblemInfo {
+    let mut params = vec![
+        ParamSpec::per_level(
+            "n",
+            v.resolutions.0,
+            v.resolutions.1,
+            "shells (1D) or particles per side of the quadrant/octant, one run each",
+        ),
+        ParamSpec::per_level(
+            "smoothing",
+            v.formulations.0,
+            v.formulations.1,
+            "smoothing-length modes (fixed, follow-density, grad-h), one set of runs each",
+        ),
+        ParamSpec::new("gamma", v.gamma, "ratio of specific heats"),
+        ParamSpec::new("energy", v.energy, "blast energy E (J, whole blast)"),
+        ParamSpec::new("t_end", v.t_end, "output time (s)"),
+        ParamSpec::new("rho0", 1.0, "background density (kg/m³)"),
+        ParamSpec::new("eta", v.eta, "smoothing length h = η·(m/ρ)^(1/D)"),
+        ParamSpec::new("cfl", 0.3, "Courant number C"),
+        // 2.5 spacings: the deposit is resolved by a few particles, yet its reach 2h = 5
+        // spacings is under 7 % of R at the coarsest quick resolution. A deposit within one
+        // h (1.2 spacings) puts the energy into one or two shells, which ring about the
+        // origin with ~10 steps per period at C = 0.3, and the leapfrog loses 4e-3 of E there
+        // (measured in 1D radial, independent of resolution; 6e-4 at 2.5 spacings)
+        ParamSpec::new(
+            "deposit_width",
+            2.5,
+            "h of the kernel that spreads E over the central particles, in spacings",
+        ),
+        ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
+        ParamSpec::new("beta", 2.0, "artificial viscosity β"),
+        ParamSpec::new("kernel", "cubic-spline", "kernel shape"),
+    ];
+    if is_radial(v) {
+        params.push(ParamSpec::step_ratio());
+    }
     super::ProblemInfo {
         name: v.name,
         summary: v.summary,
-        params: vec![
-            ParamSpec::per_level(
-                "n",
-                v.resolutions.0,
-                v.resolutions.1,
-                "shells (1D) or particles per side of the quadrant/octant, one run each",
-            ),
-            ParamSpec::per_level(
-                "smoothing",
-                v.formulations.0,
-                v.formulations.1,
-                "smoothing-length modes (fixed, follow-density, grad-h), one set of runs each",
-            ),
-            ParamSpec::new("gamma", v.gamma, "ratio of specific heats"),
-            ParamSpec::new("energy", v.energy, "blast energy E (J, whole blast)"),
-            ParamSpec::new("t_end", v.t_end, "output time (s)"),
-            ParamSpec::new("rho0", 1.0, "background density (kg/m³)"),
-            ParamSpec::new("eta", v.eta, "smoothing length h = η·(m/ρ)^(1/D)"),
-            ParamSpec::new("cfl", 0.3, "Courant number C"),
-            // 2.5 spacings: the deposit is resolved by a few particles, yet its reach 2h = 5
-            // spacings is under 7 % of R at the coarsest quick resolution. A deposit within one
-            // h (1.2 spacings) puts the energy into one or two shells, which ring about the
-            // origin with ~10 steps per period at C = 0.3, and the leapfrog loses 4e-3 of E there
-            // (measured in 1D radial, independent of resolution; 6e-4 at 2.5 spacings)
-            ParamSpec::new(
-                "deposit_width",
-                2.5,
-                "h of the kernel that spreads E over the central particles, in spacings",
-            ),
-            ParamSpec::new("alpha", 1.0, "artificial viscosity α"),
-            ParamSpec::new("beta", 2.0, "artificial viscosity β"),
-            ParamSpec::new("kernel", "cubic-spline", "kernel shape"),
-        ],
+        params,
     }
+}
+
+/// Whether the variant runs in r alone (the spherical 1D one).
+fn is_radial(v: &Variant) -> bool {
+    v.name == "sedov-spherical-1d"
 }
 
 /// Everything one run needs besides its resolution and formulation.
@@ -167,6 +176,11 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
     let eta = params.number("eta", ETA_RANGE.0, ETA_RANGE.1)?;
     let exact = SedovBlast::new(v.blast_geometry, gamma, energy, rho0, t_end)?;
     let config = SimulationConfig {
+        time_steps: if is_radial(v) {
+            params.time_steps()?
+        } else {
+            TimeSteps::Global
+        },
         formulation: formulation(v, "fixed", eta)?,
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
         viscosity: ArtificialViscosity {
@@ -195,7 +209,7 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
 /// Cartesian coordinates, or in r for the spherical 1D variant (which has no grad-h).
 fn formulation(v: &Variant, smoothing: &str, eta: f64) -> Result<Formulation, VerifyError> {
     let density = Density::from_names("summation", smoothing, eta)?;
-    if v.name != "sedov-spherical-1d" {
+    if !is_radial(v) {
         return Ok(Formulation::Cartesian(density));
     }
     Ok(Formulation::Spherical(ShellDensity::from_density(density)?))

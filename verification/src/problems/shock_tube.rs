@@ -194,6 +194,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
         eta,
     )?;
     let config = SimulationConfig {
+        time_steps: blastsph_solver::TimeSteps::Global,
         formulation: Formulation::Cartesian(density),
         kernel: params.choice("kernel", &KernelShape::ALL, KernelShape::name)?,
         viscosity: ArtificialViscosity {

@@ -195,6 +195,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     let length = params.number("length", 1e-4, 10.0)?;
     let eta = params.number("eta", 0.5, 4.0)?;
     let config = SimulationConfig {
+        time_steps: blastsph_solver::TimeSteps::Global,
         formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::FollowDensity {
             eta,
         })),

@@ -495,6 +495,7 @@ fn config(scene: &Scene) -> SimulationConfig {
         .map(|b| b.spacing)
         .fold(f64::INFINITY, f64::min);
     SimulationConfig {
+        time_steps: blastsph_solver::TimeSteps::Global,
         // continuity density: several materials of very different densities side by side
         formulation: match scene.geometry {
             Geometry::Axisymmetric => Formulation::Axisymmetric(smoothing),
