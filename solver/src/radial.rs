@@ -207,13 +207,19 @@ impl RadialKernel {
         }
     }
 
+    /// Whether shells at r_i and r_j are within the kernel's reach κh of each other.
+    #[inline]
+    pub fn reaches(&self, r_i: f64, r_j: f64, h: f64) -> bool {
+        let support = self.space.support_radius(h);
+        (r_i - r_j) * (r_i - r_j) < support * support
+    }
+
     /// (W̃(r_i, r_j; h), ∂W̃/∂r_i, ∂W̃/∂r_j). Zero for |r_i − r_j| ≥ κh.
     pub fn value_and_derivatives(&self, r_i: f64, r_j: f64, h: f64) -> (f64, f64, f64) {
-        let support = self.space.support_radius(h);
-        let gap2 = (r_i - r_j) * (r_i - r_j);
-        if gap2 >= support * support {
+        if !self.reaches(r_i, r_j, h) {
             return (0.0, 0.0, 0.0);
         }
+        let gap2 = (r_i - r_j) * (r_i - r_j);
         let product = 4.0 * r_i * r_j;
         if self.geometry == Geometry::Spherical && product >= PRIMITIVE_FROM * h * h {
             return self.shell_average(r_i, r_j, h);
@@ -631,14 +637,18 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
         } else {
             m_j / me.density
         } * flux;
-        let approach = if x_ij == 0.0 {
-            0.0
-        } else {
-            v_ij * x_ij.signum()
-        };
-        sum.signal_speed =
-            sum.signal_speed
-                .max(signal_speed(me.sound_speed, other.sound_speed, approach));
+        // a listed partner beyond the kernel's reach (lists kept across steps reach further)
+        // exchanges nothing, and no signal
+        if self.kernel.reaches(r_i, r_j, h) {
+            let approach = if x_ij == 0.0 {
+                0.0
+            } else {
+                v_ij * x_ij.signum()
+            };
+            sum.signal_speed =
+                sum.signal_speed
+                    .max(signal_speed(me.sound_speed, other.sound_speed, approach));
+        }
     }
 
     fn finish(&self, _: &ShellSource, sum: ShellRates) -> ShellRates {

@@ -220,8 +220,42 @@ pub struct Simulation<const D: usize> {
     reference: Option<ReferenceConfiguration<D>>,
     /// Particles whose motion is prescribed.
     prescribed: Option<std::sync::Arc<dyn PrescribedMotion<D>>>,
-    /// Individual time steps: the hierarchy of the current block.
+    /// Individual time steps: the hierarchy of the current block, and where the particles were
+    /// when the kept neighbour lists were searched.
     blocks: Option<BlockSteps>,
+    list_origin: ListOrigin<D>,
+}
+
+/// How far the neighbour lists kept across individual time steps reach beyond each particle's
+/// h, relative to it.
+const LIST_SKIN: f64 = 0.2;
+
+/// Where the particles were, and their h, when kept neighbour lists were searched with every
+/// h widened by [`LIST_SKIN`].
+#[derive(Clone, Debug, Default)]
+struct ListOrigin<const D: usize> {
+    position: Vec<Vector<D>>,
+    smoothing_length: Vec<f64>,
+}
+
+impl<const D: usize> ListOrigin<D> {
+    /// Whether the lists still hold every pair the kernel (support κ) reaches: a pair within
+    /// κ h̄ now was within κ h̄ + 2 d of each other at the search (d the farthest any particle
+    /// has moved since), which the widened search covered if κ h_i + 2 d ≤ κ (1 + skin) h_i⁰
+    /// for every particle.
+    fn holds(&self, p: &Particles<D>, support: f64) -> bool {
+        let n = p.n_real();
+        if self.position.len() != n {
+            return false;
+        }
+        let moved = (0..n)
+            .map(|i| (p.position[i] - self.position[i]).norm())
+            .fold(0.0, f64::max);
+        (0..n).all(|i| {
+            support * p.smoothing_length[i] + 2.0 * moved
+                <= support * (1.0 + LIST_SKIN) * self.smoothing_length[i]
+        })
+    }
 }
 
 /// A motion prescribed for some particles, by particle id: their acceleration at a time
@@ -450,6 +484,7 @@ impl<const D: usize> Simulation<D> {
             reference,
             prescribed: state.prescribed,
             blocks: None,
+            list_origin: ListOrigin::default(),
         };
         if let Some(stress) = state.deviatoric_stress {
             if !sim.particles.deviatoric_stress.is_empty() {
@@ -460,7 +495,7 @@ impl<const D: usize> Simulation<D> {
         if state.held_in_equilibrium {
             sim.hold_in_equilibrium();
         }
-        sim.check_health()?;
+        sim.check_health(&(0..init.len()).collect::<Vec<_>>())?;
         Ok(sim)
     }
 
@@ -620,7 +655,7 @@ impl<const D: usize> Simulation<D> {
         self.time += dt;
         self.steps += 1;
         self.particle_updates += all.len() as u64;
-        let health = self.check_health();
+        let health = self.check_health(&all);
         self.times.integration += start.elapsed().as_secs_f64();
         health
     }
@@ -628,7 +663,8 @@ impl<const D: usize> Simulation<D> {
     /// One step of individual time steps toward `t_end`: every particle drifts to the next
     /// time at which some particle's step ends and has its state predicted there; the
     /// particles whose steps end there (and those a neighbour's much shorter step wakes) get
-    /// their rates, close their steps and start new ones.
+    /// their rates, close their steps and start new ones. Neighbour lists are kept while they
+    /// hold every pair the kernel reaches ([`ListOrigin`]).
     fn step_individually(&mut self, t_end: f64, max_ratio: u64) -> Result<(), SolverError> {
         let mut blocks = match self.blocks.take() {
             Some(blocks) if !blocks.finished() => {
@@ -648,16 +684,27 @@ impl<const D: usize> Simulation<D> {
         let dt = blocks.advance();
         self.time = blocks.time();
         self.drift_on_half_steps(dt);
-        let all: Vec<usize> = (0..self.particles.n_real()).collect();
-        self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
         self.times.integration += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        self.find_smoothing_lengths_and_neighbours()?;
+        let support = self.kernel.shape().support();
+        if !self.list_origin.holds(&self.particles, support) {
+            self.search_kept_lists();
+        }
+        let active = self.ending_and_woken(&mut blocks);
+        // every particle's state at this time: a gauge may read any of them
+        let all: Vec<usize> = (0..self.particles.n_real()).collect();
+        loop {
+            self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
+            self.follow_density_with_h(&all);
+            if self.list_origin.holds(&self.particles, support) {
+                break;
+            }
+            self.search_kept_lists();
+        }
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let active = self.ending_and_woken(&mut blocks);
-        self.evaluate_density();
-        self.evaluate_state(self.time);
+        self.evaluate_density(&all);
+        self.evaluate_state(self.time, &all);
         self.times.density += start.elapsed().as_secs_f64();
         let start = Instant::now();
         self.evaluate_radial_rates(&active, |i| blocks.step_of(i));
@@ -672,9 +719,31 @@ impl<const D: usize> Simulation<D> {
             self.start_steps(&mut blocks, &active)
         };
         self.blocks = Some(blocks);
-        let health = started.and_then(|()| self.check_health());
+        let health = started.and_then(|()| self.check_health(&all));
         self.times.integration += start.elapsed().as_secs_f64();
         health
+    }
+
+    /// Neighbour lists of the real particles with every h widened by [`LIST_SKIN`], and where
+    /// the particles and their h were when they were searched.
+    fn search_kept_lists(&mut self) {
+        let p = &self.particles;
+        let widened: Vec<f64> = p
+            .smoothing_length
+            .iter()
+            .map(|h| h * (1.0 + LIST_SKIN))
+            .collect();
+        self.neighbours = find_neighbours(
+            &p.position,
+            &widened,
+            self.kernel.shape().support(),
+            self.config.formulation.pair_reach(),
+            p.n_real(),
+        );
+        self.list_origin = ListOrigin {
+            position: p.position.clone(),
+            smoothing_length: p.smoothing_length.clone(),
+        };
     }
 
     /// A new block of individual steps, every particle at the end of its step: each starts
@@ -737,12 +806,12 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The real particles whose steps end now, and those woken by a neighbour's step more than
-    /// four times shorter: a woken particle's step ends now, its half-step values and position
-    /// are corrected to those of a step that had been this long from its start (its kick and
-    /// drift used the longer one), and its state is predicted at the new end.
+    /// four times shorter: a woken particle's step ends now, and its half-step values and
+    /// position are corrected to those of a step that had been this long from its start (its
+    /// kick and drift used the longer one).
     fn ending_and_woken(&mut self, blocks: &mut BlockSteps) -> Vec<usize> {
         let n = self.particles.n_real();
-        let (mut active, mut woken) = (Vec::new(), Vec::new());
+        let mut active = Vec::new();
         for i in 0..n {
             if blocks.ends_now(i) {
                 active.push(i);
@@ -762,10 +831,8 @@ impl<const D: usize> Simulation<D> {
                     half.deviatoric_stress[i] -= rate * shortened;
                 }
                 active.push(i);
-                woken.push(i);
             }
         }
-        self.kick_from_half(&woken, |i| 0.5 * blocks.step_of(i));
         active
     }
 
@@ -996,16 +1063,16 @@ impl<const D: usize> Simulation<D> {
             return Ok(());
         }
         let start = Instant::now();
-        self.find_smoothing_lengths_and_neighbours()?;
+        let all: Vec<usize> = (0..self.particles.n_real()).collect();
+        self.find_smoothing_lengths_and_neighbours(&all)?;
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        self.evaluate_density();
-        self.evaluate_state(time);
+        self.evaluate_density(&all);
+        self.evaluate_state(time, &all);
         self.particles.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();
         let start = Instant::now();
         if self.radial_kernel.is_some() {
-            let all: Vec<usize> = (0..self.particles.n_real()).collect();
             let dt = time - self.time;
             self.evaluate_radial_rates(&all, |_| dt);
         } else {
@@ -1103,65 +1170,77 @@ impl<const D: usize> Simulation<D> {
 
     /// Each particle's h for this state (fixed, from its density, or solved with it), then the
     /// images and neighbour lists for those h.
-    fn find_smoothing_lengths_and_neighbours(&mut self) -> Result<(), SolverError> {
-        let formulation = self.config.formulation;
-        if let Some((eta, tolerance)) = formulation.grad_h() {
+    fn find_smoothing_lengths_and_neighbours(&mut self, all: &[usize]) -> Result<(), SolverError> {
+        if let Some((eta, tolerance)) = self.config.formulation.grad_h() {
             return self.solve_grad_h(eta, tolerance);
         }
-        match formulation.smoothing() {
-            Some(
-                SmoothingLength::FollowDensity { eta }
-                | SmoothingLength::FollowDensityFloored { eta },
-            ) => {
-                let p = &mut self.particles;
-                for i in 0..p.n_real() {
-                    let volume = p.mass[i] / p.density[i];
-                    p.smoothing_length[i] =
-                        eta * particle_spacing(formulation, D, volume, p.position[i][0]);
-                }
-                for (h, floor) in p.smoothing_length.iter_mut().zip(&p.smoothing_floor) {
-                    *h = h.max(*floor);
-                }
-            }
-            Some(SmoothingLength::Fixed) | None => {}
-        }
+        self.follow_density_with_h(all);
         self.search_neighbours();
         Ok(())
     }
 
-    /// The summation density pass (radial or planar); continuity density was integrated by the
-    /// kicks, and grad-h found it with h. Then each particle's peak density.
-    fn evaluate_density(&mut self) {
+    /// h = η·(spacing from m/ρ), at least its floor, for the real particles `which`, where h
+    /// follows the density.
+    fn follow_density_with_h(&mut self, which: &[usize]) {
+        let formulation = self.config.formulation;
+        let Some(
+            SmoothingLength::FollowDensity { eta } | SmoothingLength::FollowDensityFloored { eta },
+        ) = formulation.smoothing()
+        else {
+            return;
+        };
+        let p = &mut self.particles;
+        let floored = !p.smoothing_floor.is_empty();
+        for &i in which {
+            let volume = p.mass[i] / p.density[i];
+            let h = eta * particle_spacing(formulation, D, volume, p.position[i][0]);
+            p.smoothing_length[i] = if floored {
+                h.max(p.smoothing_floor[i])
+            } else {
+                h
+            };
+        }
+    }
+
+    /// The summation density pass (radial or planar) of the real particles `which`; continuity
+    /// density was integrated by the kicks, and grad-h found it with h. Then their peak density.
+    fn evaluate_density(&mut self, which: &[usize]) {
         let p = &mut self.particles;
         let density = match (&self.radial_kernel, self.config.formulation.sums_density()) {
             (_, false) => None,
-            (Some(kernel), true) => Some(pairs::gather(
+            (Some(kernel), true) => Some(pairs::gather_at(
                 &radial::RadialDensity { kernel },
                 p,
                 &self.neighbours,
+                which,
             )),
-            (None, true) => Some(pairs::gather(
+            (None, true) => Some(pairs::gather_at(
                 &physics::SummationDensity {
                     kernel: &self.kernel,
                 },
                 p,
                 &self.neighbours,
+                which,
             )),
         };
         if let Some(density) = density {
-            p.density[..density.len()].copy_from_slice(&density);
+            for (&i, rho) in which.iter().zip(density) {
+                p.density[i] = rho;
+            }
         }
-        for (peak, rho) in p.peak_density.iter_mut().zip(&p.density) {
-            *peak = peak.max(*rho);
+        if !p.peak_density.is_empty() {
+            for &i in which {
+                p.peak_density[i] = p.peak_density[i].max(p.density[i]);
+            }
         }
     }
 
-    /// Pressure and sound speed from each material's equation of state (and peak density); a
-    /// solid's sound speed is its P-wave speed; a detonating charge's pressure is scaled by its
-    /// burn fraction at `time`.
-    fn evaluate_state(&mut self, time: f64) {
+    /// Pressure and sound speed of the real particles `which` from each material's equation of
+    /// state (and peak density); a solid's sound speed is its P-wave speed; a detonating
+    /// charge's pressure is scaled by its burn fraction at `time`.
+    fn evaluate_state(&mut self, time: f64, which: &[usize]) {
         let p = &mut self.particles;
-        for i in 0..p.n_real() {
+        for &i in which {
             let eos = &self.materials[p.material_of(i)].eos;
             let (rho, e, peak) = (p.density[i], p.internal_energy[i], p.peak_density_of(i));
             p.pressure[i] = eos.pressure_after(rho, e, peak);
@@ -1169,7 +1248,7 @@ impl<const D: usize> Simulation<D> {
         }
         // a solid carries shear waves too: the P-wave speed √(c² + 4G/(3ρ)) sets the time step
         if !p.deviatoric_stress.is_empty() {
-            for i in 0..p.n_real() {
+            for &i in which {
                 if let Some(strength) = &self.materials[p.material_of(i)].strength {
                     let c2 = p.sound_speed[i].powi(2)
                         + 4.0 * strength.shear_modulus / (3.0 * p.density[i]);
@@ -1180,7 +1259,7 @@ impl<const D: usize> Simulation<D> {
         if let Some(burn) = &self.burn {
             // the fraction never falls (h may grow as the products expand); the sound speed
             // stays the products' own, which keeps the time step safe as the charge lights
-            for i in 0..p.n_real() {
+            for &i in which {
                 let f = burn.fraction(time, p.lighting_time[i], p.smoothing_length[i]);
                 p.burn_fraction[i] = p.burn_fraction[i].max(f);
                 p.pressure[i] *= p.burn_fraction[i];
@@ -1329,10 +1408,11 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
-    /// Stops the run with a diagnosis if any particle has left the physical range.
-    fn check_health(&self) -> Result<(), SolverError> {
+    /// Stops the run with a diagnosis if any of the real particles `which` has left the physical
+    /// range.
+    fn check_health(&self, which: &[usize]) -> Result<(), SolverError> {
         let p = &self.particles;
-        for i in 0..p.n_real() {
+        for &i in which {
             let material = &self.materials[p.material_of(i)];
             let pressure = material.eos.pressure_after(
                 p.density[i],
