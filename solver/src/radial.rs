@@ -26,10 +26,11 @@
 
 use crate::kernel::{Kernel, KernelShape};
 use crate::neighbours::NeighbourList;
-use crate::pairs::{self, PairEquation};
+use crate::pairs::{self, PairEquation, Partners};
 use crate::particles::Particles;
 use crate::physics::{signal_speed, ArtificialViscosity, EnergyEquation};
 use crate::{Tensor, Vector};
+use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The symmetry of a scene.
@@ -420,18 +421,70 @@ impl<const D: usize> PairEquation<D> for RadialDensity<'_> {
 /// planar dv/dr lacks. The source of the viscosity switch. For the real particles `which`.
 pub(crate) fn velocity_divergences<const D: usize>(
     particles: &Particles<D>,
-    neighbours: &NeighbourList,
+    shell_pairs: &ShellPairs,
     kernel: &RadialKernel,
     which: &[usize],
 ) -> Vec<f64> {
-    pairs::gather_at(&RadialDivergence { kernel }, particles, neighbours, which)
+    pairs::gather_at(&RadialDivergence { kernel }, particles, shell_pairs, which)
+}
+
+/// The averaged kernel of every pair of some real shells, (W̃, ∂W̃/∂r_i, ∂W̃/∂r_j) at
+/// h̄ = (h_i + h_j)/2, worked out once for the passes that share it (the velocity divergence and
+/// the rates); pairs beyond the kernel's reach are left out. Partners for the pair driver.
+pub(crate) struct ShellPairs {
+    /// Each real particle's place in `lists` (u32::MAX where it has none).
+    slot: Vec<u32>,
+    lists: Vec<Vec<(u32, [f64; 3])>>,
+}
+
+impl ShellPairs {
+    /// The pairs of the real particles `which` among their neighbours.
+    pub(crate) fn new<const D: usize>(
+        particles: &Particles<D>,
+        neighbours: &NeighbourList,
+        kernel: &RadialKernel,
+        which: &[usize],
+    ) -> Self {
+        let p = particles;
+        let mut slot = vec![u32::MAX; p.n_real()];
+        for (k, &i) in which.iter().enumerate() {
+            slot[i] = k as u32;
+        }
+        let lists = which
+            .par_iter()
+            .map(|&i| {
+                let (r_i, h_i) = (p.position[i][0], p.smoothing_length[i]);
+                let mut list = Vec::new();
+                neighbours.visit(i, |j, _| {
+                    let (r_j, h) = (p.position[j][0], 0.5 * (h_i + p.smoothing_length[j]));
+                    if kernel.reaches(r_i, r_j, h) {
+                        let (w, d1, d2) = kernel.value_and_derivatives(r_i, r_j, h);
+                        list.push((j as u32, [w, d1, d2]));
+                    }
+                });
+                list
+            })
+            .collect();
+        Self { slot, lists }
+    }
+}
+
+impl Partners for ShellPairs {
+    type Link = [f64; 3];
+
+    #[inline]
+    fn visit(&self, i: usize, mut visit: impl FnMut(usize, &[f64; 3])) {
+        for (j, kernel) in &self.lists[self.slot[i] as usize] {
+            visit(*j as usize, kernel);
+        }
+    }
 }
 
 struct RadialDivergence<'a> {
     kernel: &'a RadialKernel,
 }
 
-impl<const D: usize> PairEquation<D> for RadialDivergence<'_> {
+impl<const D: usize> PairEquation<D, [f64; 3]> for RadialDivergence<'_> {
     type Source = ShellSource;
     type Sum = f64;
     type Output = f64;
@@ -446,11 +499,8 @@ impl<const D: usize> PairEquation<D> for RadialDivergence<'_> {
     }
 
     #[inline]
-    fn pair(&self, sum: &mut f64, me: &ShellSource, other: &ShellSource, _: &()) {
-        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        let (_, d1, d2) = self
-            .kernel
-            .value_and_derivatives(me.radius, other.radius, h);
+    fn pair(&self, sum: &mut f64, me: &ShellSource, other: &ShellSource, kernel: &[f64; 3]) {
+        let [_, d1, d2] = *kernel;
         *sum -= other.mass / other.density * (me.velocity * d1 + other.velocity * d2);
     }
 
@@ -483,9 +533,9 @@ impl<const D: usize> PairEquation<D> for RadialDivergence<'_> {
 /// two out-of-plane normal rates v/r (no spin in radial flow). `shear_modulus[m]` is material
 /// m's G (0 for a fluid); empty in a fluid scene. For the real particles `which`; the others
 /// keep their rates.
-pub fn radial_rates<const D: usize>(
+pub(crate) fn radial_rates<const D: usize>(
     particles: &mut Particles<D>,
-    neighbours: &NeighbourList,
+    shell_pairs: &ShellPairs,
     kernel: &RadialKernel,
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
@@ -498,7 +548,7 @@ pub fn radial_rates<const D: usize>(
         energy,
         volume_form: !particles.density_rate.is_empty(),
     };
-    let rates = pairs::gather_at(&equation, particles, neighbours, which);
+    let rates = pairs::gather_at(&equation, particles, shell_pairs, which);
     let p = particles;
     for (&i, rate) in which.iter().zip(rates) {
         p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { rate.acceleration } else { 0.0 });
@@ -573,7 +623,7 @@ impl RadialRates<'_> {
     }
 }
 
-impl<const D: usize> PairEquation<D> for RadialRates<'_> {
+impl<const D: usize> PairEquation<D, [f64; 3]> for RadialRates<'_> {
     type Source = ShellSource;
     type Sum = ShellRates;
     type Output = ShellRates;
@@ -609,12 +659,12 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
     }
 
     #[inline]
-    fn pair(&self, sum: &mut ShellRates, me: &ShellSource, other: &ShellSource, _: &()) {
+    fn pair(&self, sum: &mut ShellRates, me: &ShellSource, other: &ShellSource, kernel: &[f64; 3]) {
         let (r_i, v_i) = (me.radius, me.velocity);
         let own = me.pressure_term * self.partner_factor(other);
         let (r_j, v_j, m_j) = (other.radius, other.velocity, other.mass);
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        let (_, d1, d2) = self.kernel.value_and_derivatives(r_i, r_j, h);
+        let [_, d1, d2] = *kernel;
         let g = 0.5 * (d1 - d2);
         let (x_ij, v_ij) = (r_i - r_j, v_i - v_j);
         let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
@@ -637,18 +687,14 @@ impl<const D: usize> PairEquation<D> for RadialRates<'_> {
         } else {
             m_j / me.density
         } * flux;
-        // a listed partner beyond the kernel's reach (lists kept across steps reach further)
-        // exchanges nothing, and no signal
-        if self.kernel.reaches(r_i, r_j, h) {
-            let approach = if x_ij == 0.0 {
-                0.0
-            } else {
-                v_ij * x_ij.signum()
-            };
-            sum.signal_speed =
-                sum.signal_speed
-                    .max(signal_speed(me.sound_speed, other.sound_speed, approach));
-        }
+        let approach = if x_ij == 0.0 {
+            0.0
+        } else {
+            v_ij * x_ij.signum()
+        };
+        sum.signal_speed =
+            sum.signal_speed
+                .max(signal_speed(me.sound_speed, other.sound_speed, approach));
     }
 
     fn finish(&self, _: &ShellSource, sum: ShellRates) -> ShellRates {

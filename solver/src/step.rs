@@ -1092,13 +1092,11 @@ impl<const D: usize> Simulation<D> {
         let Some(radial_kernel) = &self.radial_kernel else {
             return;
         };
+        let shell_pairs =
+            radial::ShellPairs::new(&self.particles, &self.neighbours, radial_kernel, which);
         if let Some(switch) = self.config.viscosity.switch {
-            let divergence = radial::velocity_divergences(
-                &self.particles,
-                &self.neighbours,
-                radial_kernel,
-                which,
-            );
+            let divergence =
+                radial::velocity_divergences(&self.particles, &shell_pairs, radial_kernel, which);
             let alpha_max = self.config.viscosity.alpha;
             let updates = which
                 .iter()
@@ -1110,7 +1108,7 @@ impl<const D: usize> Simulation<D> {
         self.totals = RateTotals::default();
         radial::radial_rates(
             &mut self.particles,
-            &self.neighbours,
+            &shell_pairs,
             radial_kernel,
             &self.config.viscosity,
             self.config.energy,
@@ -1639,8 +1637,8 @@ mod tests {
             let sim = Simulation::new(&init, gas, Domain::open(), config).unwrap();
             let kernel = sim.radial_kernel.as_ref().unwrap();
             let all: Vec<usize> = (0..sim.particles.n_real()).collect();
-            let divergence =
-                radial::velocity_divergences(&sim.particles, &sim.neighbours, kernel, &all);
+            let pairs = radial::ShellPairs::new(&sim.particles, &sim.neighbours, kernel, &all);
+            let divergence = radial::velocity_divergences(&sim.particles, &pairs, kernel, &all);
             let p = &sim.particles;
             for i in (0..p.n_real()).filter(|&i| p.position[i][0] < 0.4) {
                 let relative = divergence[i] / (dimensions * a) - 1.0;
