@@ -23,11 +23,11 @@ impl ParamSpec {
     }
 
     /// `step_ratio`, read by [`Params::time_steps`], for problems whose scenes may take
-    /// individual time steps (radial ones).
-    pub fn step_ratio() -> Self {
+    /// individual time steps (radial ones), `default` at both levels.
+    pub fn step_ratio(default: u64) -> Self {
         Self::new(
             "step_ratio",
-            1,
+            default,
             "individual time steps: each particle's up to this power of two times the shortest (1: one global step)",
         )
     }

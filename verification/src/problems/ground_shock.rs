@@ -155,7 +155,11 @@ pub fn info() -> super::ProblemInfo {
                 "Morris-Monaghan switch: the viscosity's alpha away from shocks (1: off)",
             ),
             ParamSpec::new("eta", 2.0, "smoothing length h = η·(shell width)"),
-            ParamSpec::step_ratio(),
+            // individual steps: the sand far out steps up to 64 times longer than the crushed
+            // sand by the charge, which sets the global step; at n = 10 a third fewer seconds
+            // and a sixth of the particle updates, the gauges' peaks within 1 % of global
+            // steps' (halving the global Courant number moves them 4 %)
+            ParamSpec::step_ratio(64),
         ],
     }
 }
