@@ -495,3 +495,40 @@ fn individual_time_steps_are_deterministic_across_thread_counts() {
         }
     }
 }
+
+/// Individual time steps are refused by name where they are not built: Cartesian scenes, a
+/// ratio that is not a power of two, and a step of a given length.
+#[test]
+fn individual_time_steps_are_refused_where_they_are_not_built() {
+    let individual = |max_ratio| TimeSteps::Individual { max_ratio };
+    let cartesian = SimulationConfig {
+        time_steps: individual(8),
+        ..Default::default()
+    };
+    let refusal = cartesian.validate().unwrap_err().to_string();
+    assert!(
+        refusal.contains("time_steps") && refusal.contains("radial"),
+        "{refusal}"
+    );
+    for max_ratio in [0, 1, 6, 2 * TimeSteps::MAX_RATIO] {
+        let config = SimulationConfig {
+            formulation: radial(Geometry::Spherical, SmoothingLength::Fixed),
+            time_steps: individual(max_ratio),
+            ..Default::default()
+        };
+        let refusal = config.validate().unwrap_err().to_string();
+        assert!(refusal.contains("max_ratio"), "{max_ratio}: {refusal}");
+    }
+    let continuity = ShellDensity::Continuity(SmoothingLength::FollowDensity { eta: 1.2 });
+    let mut sim = stepped_shells(
+        Geometry::Spherical,
+        20,
+        0.01,
+        continuity,
+        |_| 1.0,
+        |_| 1.0,
+        individual(8),
+    );
+    let refusal = sim.step(1e-3).unwrap_err().to_string();
+    assert!(refusal.contains("step_toward"), "{refusal}");
+}
