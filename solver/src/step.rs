@@ -8,7 +8,9 @@
 //! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted
 //! v* = v^{n+½} + a^n Δt/2 (and likewise e, ρ), then v^{n+1} = v^{n+½} + a^{n+1} Δt/2.
 //! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
-//! signal speed, and the force criterion).
+//! signal speed, and the force criterion), or in radial scenes with `TimeSteps::Individual`
+//! each particle its own (see [`crate::block_steps`]), the same kicks and drift applied per
+//! particle.
 
 use crate::axisymmetric::{self, PairGeometry};
 use crate::block_steps::{BlockSteps, NEIGHBOUR_STEP_RATIO};
