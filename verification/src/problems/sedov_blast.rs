@@ -633,6 +633,27 @@ pub fn run(
             row.sensitivity = Some(what);
             runs.push(row);
         }
+        if is_radial(v) {
+            // global steps were kept with the energy in view: the coarsest run stepped the
+            // other way
+            let (ratio, other) = match s.config.time_steps {
+                TimeSteps::Global => (1, TimeSteps::Individual { max_ratio: 64 }),
+                TimeSteps::Individual { max_ratio } => (max_ratio, TimeSteps::Global),
+            };
+            let varied = Settings {
+                config: SimulationConfig {
+                    time_steps: other,
+                    ..s.config
+                },
+                ..s
+            };
+            let mut row = run_variant(v, &varied, n, &|_| {})?.run;
+            let other_ratio = if ratio == 1 { 64 } else { 1 };
+            let what = format!("step_ratio = {other_ratio} (default {ratio})");
+            row.label = format!("n = {n}, {what}");
+            row.sensitivity = Some(what);
+            runs.push(row);
+        }
     }
     let finest_state = blasts[..resolutions.len()]
         .iter()
