@@ -15,7 +15,7 @@
 const DEEPEST: u32 = 20;
 
 /// The limiter's factor: a particle's step is at most this many times a neighbour's.
-pub const NEIGHBOUR_STEP_RATIO: u64 = 4;
+const NEIGHBOUR_STEP_RATIO: u64 = 4;
 
 /// The hierarchy of one block.
 #[derive(Clone, Debug, Default)]
@@ -148,9 +148,15 @@ impl BlockSteps {
     }
 
     /// Whether particle i's step is more than the limiter allows over a neighbour's step of
-    /// `neighbour_step` ticks, and it has begun (it can end at the current tick).
+    /// `neighbour_step` ticks (`u64::MAX` where it has no neighbours: no limit).
+    pub fn exceeds_limit(&self, i: usize, neighbour_step: u64) -> bool {
+        self.step[i] > neighbour_step.saturating_mul(NEIGHBOUR_STEP_RATIO)
+    }
+
+    /// Whether particle i's step exceeds the limiter's (see [`Self::exceeds_limit`]) and it
+    /// has begun (it can end at the current tick).
     pub fn must_wake(&self, i: usize, neighbour_step: u64) -> bool {
-        self.step[i] > NEIGHBOUR_STEP_RATIO * neighbour_step && self.now > self.started[i]
+        self.exceeds_limit(i, neighbour_step) && self.now > self.started[i]
     }
 
     /// Advances to the next tick at which some particle's step ends; returns the time passed
@@ -215,6 +221,8 @@ mod tests {
         block.advance();
         assert!(block.must_wake(1, one));
         assert!(!block.must_wake(1, 16 * one));
+        // a particle without neighbours has no limit
+        assert!(!block.must_wake(1, u64::MAX));
         assert_eq!(block.end_early(1), (64.0, 1.0));
         assert!(block.ends_now(1));
     }

@@ -13,7 +13,7 @@
 //! particle.
 
 use crate::axisymmetric::{self, PairGeometry};
-use crate::block_steps::{BlockSteps, NEIGHBOUR_STEP_RATIO};
+use crate::block_steps::BlockSteps;
 use crate::boundary::{Boundary, Domain};
 use crate::burn::ProgrammedBurn;
 use crate::eos::Material;
@@ -767,7 +767,7 @@ impl<const D: usize> Simulation<D> {
             limited = false;
             for (i, &dt) in stable.iter().enumerate() {
                 let shortest = self.shortest_neighbour_step(&blocks, i);
-                if blocks.ticks_of(i) > NEIGHBOUR_STEP_RATIO * shortest {
+                if blocks.exceeds_limit(i, shortest) {
                     blocks
                         .start_step(i, dt, shortest)
                         .ok_or_else(|| self.collapse(i, dt))?;
