@@ -25,7 +25,6 @@ use crate::report::write_atomic;
 use crate::scaled::ground_shock::soil;
 use crate::{Level, VerifyError};
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 /// The largest relative difference between the peak stress at the deepest gauge at the two
@@ -170,23 +169,10 @@ pub fn validate(request: &GateRequest) -> Result<(), VerifyError> {
 /// The hash of what decides the gate's result: the request, the problems and parameters it
 /// runs, and the program's own bytes.
 pub fn inputs_hash(request: &GateRequest) -> Result<String, VerifyError> {
-    let mut hasher = Sha256::new();
-    hasher.update(serde_json::to_vec(request).expect("a request serialises"));
-    hasher.update(serde_json::to_vec(&plan(request)).expect("a plan serialises"));
-    let exe = std::env::current_exe().map_err(|source| VerifyError::Io {
-        path: "the running program".into(),
-        source,
-    })?;
-    let program = std::fs::read(&exe).map_err(|source| VerifyError::Io {
-        path: exe.display().to_string(),
-        source,
-    })?;
-    hasher.update(&program);
-    Ok(hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect())
+    crate::cache::inputs_hash(&[
+        &serde_json::to_vec(request).expect("a request serialises"),
+        &serde_json::to_vec(&plan(request)).expect("a plan serialises"),
+    ])
 }
 
 /// Where the gate's result for `hash` is kept in `dir`.

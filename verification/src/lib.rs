@@ -5,6 +5,7 @@
 //! returns a [`record::Record`] with profiles and a plot. `blastsph verify` and `cargo test`
 //! both call [`problems::run`], so the tests exercise exactly what the CLI runs.
 
+pub mod cache;
 pub mod gate;
 pub mod gauges;
 pub mod impedance;

@@ -29,7 +29,7 @@ use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{Kernel, KernelShape, PrescribedMotion, Simulation, Tensor, Vector};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use std::sync::Arc;
@@ -462,7 +462,7 @@ fn record_free_field(
 }
 
 /// A gauge's readings in `study.json`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GaugeReading {
     pub arrival_s: f64,
     /// Pressures and stresses are total: the geostatic state's included.
@@ -489,7 +489,7 @@ impl GaugeReading {
     }
 }
 
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Lining {
     pub plastic_particles: usize,
     pub failed_particles: usize,
@@ -592,7 +592,7 @@ impl StressLine {
 }
 
 /// One case of the study.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CaseReport {
     pub depth_m: f64,
     pub charge_kg: f64,
@@ -605,16 +605,32 @@ pub struct CaseReport {
     /// The section without the tunnel, driven by the same band: its peak velocity where the
     /// crown is over the free field's there (1 for an exact reduction).
     pub reduction_ratio: f64,
+    /// The case's own run time (when it was run) and its share of its free field's.
     pub wall_s: f64,
     /// Why a run stopped early, if one did.
     pub stopped: Option<String>,
+    /// Whether the case was kept from an earlier run with the same inputs and program (see
+    /// [`run_charge`]) rather than run now.
+    #[serde(default)]
+    pub reused: bool,
 }
 
 /// The sections of one charge at every depth, each with the band's free-field sources.
 struct ChargeRuns {
     free_field: Scene,
-    sections: Vec<(Case, Section, Scene, Scene, Arc<BandSources>)>,
+    sections: Vec<SectionRun>,
     tracked: Vec<u32>,
+}
+
+/// One depth's section, with the tunnel and without, and the hash of what decides its case:
+/// the free field's scene without its gauges (they only read it) and the sections' scenes.
+struct SectionRun {
+    case: Case,
+    section: Section,
+    with: Scene,
+    without: Scene,
+    sources: Arc<BandSources>,
+    inputs_hash: String,
 }
 
 /// The free field's end: 1.5 times the time a small signal (the soil's P wave) takes to the
@@ -682,27 +698,44 @@ fn prepare_charge(
     // of the sections' soil spacings, whatever the charge (a large charge's doubling spacings
     // would otherwise reach metres at the sections)
     let far_spacing = 3.0 * geometry[0].1.soil_spacing;
-    let free_text = free_field_scene(
-        charge_kg,
-        soil,
-        resolution,
-        (reach_r + margin, reach_z + margin),
-        far_spacing,
-        &gauges,
-        end,
-    );
-    let free_field = Scene::parse(&free_text)?;
+    let free_text = |gauges: &[(f64, f64)]| {
+        free_field_scene(
+            charge_kg,
+            soil,
+            resolution,
+            (reach_r + margin, reach_z + margin),
+            far_spacing,
+            gauges,
+            end,
+        )
+    };
+    let free_field = Scene::parse(&free_text(&gauges))?;
+    let free_physics = free_text(&[]);
     let (free_init, _) = particles::<2>(&free_field)?;
     let mut tracked = Vec::new();
     let mut column_of = HashMap::new();
     let mut sections = Vec::new();
     for (case, section) in geometry {
         let end = end_time(case.depth_m, tunnel, c_p);
-        let with = Scene::parse(&section_scene(case, soil, tunnel, section, end, true))?;
-        let without = Scene::parse(&section_scene(case, soil, tunnel, section, end, false))?;
+        let with_text = section_scene(case, soil, tunnel, section, end, true);
+        let without_text = section_scene(case, soil, tunnel, section, end, false);
+        let inputs_hash = crate::cache::inputs_hash(&[
+            free_physics.as_bytes(),
+            with_text.as_bytes(),
+            without_text.as_bytes(),
+        ])?;
+        let with = Scene::parse(&with_text)?;
+        let without = Scene::parse(&without_text)?;
         // the band is the first body of both, so its particles have the same ids in each
         let sources = band_sources(&with, &free_init, &mut tracked, &mut column_of)?;
-        sections.push((case, section, with, without, Arc::new(sources)));
+        sections.push(SectionRun {
+            case,
+            section,
+            with,
+            without,
+            sources: Arc::new(sources),
+            inputs_hash,
+        });
     }
     Ok(ChargeRuns {
         free_field,
@@ -922,9 +955,15 @@ fn case_folder(case: Case) -> String {
     format!("{}m-{}kg", case.depth_m, case.charge_kg)
 }
 
+/// The file in a case's folder that keeps its report under the hash of its inputs.
+const KEPT_CASE: &str = "case.json";
+
 /// One charge at every depth: its free field, then each section with and without the tunnel,
 /// into `out` (`free-field/<W>kg/`, `cases/<d>m-<W>kg/section/` and
-/// `.../section-without-tunnel/`, each with its scene, gauge CSVs and snapshots).
+/// `.../section-without-tunnel/`, each with its scene, gauge CSVs and snapshots, and the
+/// case's report in `case.json`). A case whose `case.json` holds the same inputs' hash (see
+/// [`SectionRun`]) from the same program is reused, its outputs as they are; the free field
+/// runs only when some case must.
 pub fn run_charge(
     charge_kg: f64,
     depths_m: &[f64],
@@ -935,6 +974,21 @@ pub fn run_charge(
     progress: &(dyn Fn(&str, f64) + Sync),
 ) -> Result<Vec<CaseReport>, VerifyError> {
     let runs = prepare_charge(charge_kg, depths_m, soil, tunnel, resolution)?;
+    let folder = |case: Case| out.join("cases").join(case_folder(case));
+    let kept: Vec<Option<CaseReport>> = runs
+        .sections
+        .iter()
+        .map(|run| {
+            crate::cache::kept::<CaseReport>(&folder(run.case).join(KEPT_CASE), &run.inputs_hash)
+                .map(|report| CaseReport {
+                    reused: true,
+                    ..report
+                })
+        })
+        .collect();
+    if kept.iter().all(Option::is_some) {
+        return Ok(kept.into_iter().flatten().collect());
+    }
     let free_dir = out.join("free-field").join(format!("{charge_kg}kg"));
     let label = format!("free field {charge_kg} kg");
     let (recording, free) =
@@ -943,23 +997,27 @@ pub fn run_charge(
         })?;
     let recording = Arc::new(recording);
     let mut reports = Vec::new();
-    for (k, (case, section, with, without, sources)) in runs.sections.into_iter().enumerate() {
-        let dir = out.join("cases").join(case_folder(case));
+    for (k, (run, kept)) in runs.sections.into_iter().zip(kept).enumerate() {
+        if let Some(report) = kept {
+            reports.push(report);
+            continue;
+        }
+        let (case, dir) = (run.case, folder(run.case));
         let motion: Arc<dyn PrescribedMotion<2>> = Arc::new(BandMotion {
-            sources,
+            sources: run.sources,
             recording: recording.clone(),
         });
         let label = format!("{} m, {} kg", case.depth_m, case.charge_kg);
-        let mut faces = CrownFaces::new(&section, tunnel, resolution.across_lining);
+        let mut faces = CrownFaces::new(&run.section, tunnel, resolution.across_lining);
         let section = run_with::<2>(
-            &with,
+            &run.with,
             &dir.join("section"),
             &mut |f| progress(&label, f),
             &|_, _| Some(motion.clone()),
             &mut |sim| faces.observe(sim),
         )?;
         let empty = run_with::<2>(
-            &without,
+            &run.without,
             &dir.join("section-without-tunnel"),
             &mut |_| {},
             &|_, _| Some(motion.clone()),
@@ -981,7 +1039,7 @@ pub fn run_charge(
             failed_particles: section.failed.get("lining").copied().unwrap_or(0),
             crown_face_peak_von_mises_pa: faces.peak_pa,
         };
-        reports.push(CaseReport {
+        let report = CaseReport {
             depth_m: case.depth_m,
             charge_kg,
             gauges,
@@ -991,7 +1049,10 @@ pub fn run_charge(
             reduction_ratio,
             wall_s: section.wall_s + empty.wall_s + free.wall_s / depths_m.len() as f64,
             stopped: free.stopped.clone().or(section.stopped).or(empty.stopped),
-        });
+            reused: false,
+        };
+        crate::cache::keep(&dir.join(KEPT_CASE), &run.inputs_hash, &report)?;
+        reports.push(report);
     }
     Ok(reports)
 }
@@ -1507,8 +1568,28 @@ mod tests {
             &|_, _| {},
         )
         .expect("the case runs");
+        // run again into the same folder: the case is kept, nothing runs, the report is the same
+        let again = run_charge(
+            50.0,
+            &[8.0],
+            &Soil::default(),
+            tunnel,
+            coarse,
+            &out,
+            &|_, _| panic!("a kept case runs nothing"),
+        )
+        .expect("the kept case is read");
         let _ = std::fs::remove_dir_all(&out);
         let case = &cases[0];
+        assert!(!case.reused && again[0].reused);
+        let without_flag = |case: &CaseReport| {
+            serde_json::to_string(&CaseReport {
+                reused: false,
+                ..case.clone()
+            })
+            .unwrap()
+        };
+        assert_eq!(without_flag(&again[0]), without_flag(case));
         assert!(case.stopped.is_none(), "{:?}", case.stopped);
         let (crown, free) = (&case.gauges["crown"], &case.gauges["free_field_at_crown"]);
         // the fastest wave: the library's fully compacted sand (4636 m/s)
@@ -1525,6 +1606,33 @@ mod tests {
             case.reduction_ratio
         );
         assert!(crown.peak_velocity_m_s > 0.0 && crown.peak_von_mises_pa > 0.0);
+    }
+
+    /// A case's inputs' hash follows what decides the case: a shallower depth added to the
+    /// study leaves it as it was (the free field reaches as deep and runs as long, and its
+    /// gauges only read it); a deeper one changes it (the free field grows and runs longer); so
+    /// does another charge.
+    #[test]
+    fn a_case_is_kept_while_what_decides_it_is_unchanged() {
+        let tunnel = Tunnel {
+            inner_diameter_m: 2.0,
+            lining_m: 0.3,
+            ..Tunnel::default()
+        };
+        let coarse = Resolution {
+            across_charge: 4,
+            across_lining: 2,
+        };
+        let hash_at_8m = |charge_kg: f64, depths: &[f64]| {
+            let runs = prepare_charge(charge_kg, depths, &Soil::default(), tunnel, coarse)
+                .expect("the scenes build");
+            let run = runs.sections.iter().find(|run| run.case.depth_m == 8.0);
+            run.expect("an 8 m case").inputs_hash.clone()
+        };
+        let alone = hash_at_8m(50.0, &[8.0]);
+        assert_eq!(hash_at_8m(50.0, &[5.0, 8.0]), alone);
+        assert_ne!(hash_at_8m(50.0, &[8.0, 12.0]), alone);
+        assert_ne!(hash_at_8m(60.0, &[8.0]), alone);
     }
 
     /// The crown's peak stresses at 10 m under 500 kg against particles across the lining
@@ -1645,6 +1753,7 @@ mod tests {
                 reduction_ratio: 1.1,
                 wall_s: 13.0,
                 stopped: None,
+                reused: false,
             }],
             safe_depth_m: [("500".to_string(), Some(10.0))].into(),
             scaled_safe_depth_m_kg13: [("500".to_string(), Some(1.26))].into(),
