@@ -532,3 +532,32 @@ fn individual_time_steps_are_refused_where_they_are_not_built() {
     let refusal = sim.step(1e-3).unwrap_err().to_string();
     assert!(refusal.contains("step_toward"), "{refusal}");
 }
+
+/// With individual steps the clock moves forward at every step and stops exactly at the end
+/// asked for; a block once open is not cut short: an end inside it is refused by name.
+#[test]
+fn individual_time_steps_move_the_clock_forward_to_the_end() {
+    let continuity = ShellDensity::Continuity(SmoothingLength::FollowDensity { eta: 1.2 });
+    let hot_core = |r: f64| 1e-3 + 10.0 * (-r * r / 0.003).exp();
+    let mut sim = stepped_shells(
+        Geometry::Spherical,
+        40,
+        0.005,
+        continuity,
+        |_| 1.0,
+        hot_core,
+        TimeSteps::Individual { max_ratio: 64 },
+    );
+    let end = 2e-3;
+    let mut times = vec![sim.time()];
+    while sim.time() < end {
+        sim.step_toward(end).unwrap();
+        times.push(sim.time());
+    }
+    assert!(times.windows(2).all(|w| w[1] > w[0]), "{times:?}");
+    assert_eq!(sim.time(), end);
+    // the next block's first step ends before the block does (the core steps shorter)
+    sim.step_toward(1.0).unwrap();
+    let refusal = sim.step_toward(sim.time() * (1.0 + 1e-9)).unwrap_err();
+    assert!(refusal.to_string().contains("t_end"), "{refusal}");
+}
