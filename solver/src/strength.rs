@@ -12,7 +12,7 @@
 //! plane strain in 2D: one), so s:s = |s_D|² + (tr s_D)²/(3 − D).
 
 use crate::error::SolverError;
-use nalgebra::SMatrix;
+use nalgebra::{Matrix3, SMatrix};
 
 /// Where plastic flow begins, as a limit on the von Mises equivalent stress σ_eq.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,6 +86,10 @@ pub struct YieldState {
 pub struct Strength {
     pub shear_modulus: f64,
     pub surface: YieldSurface,
+    /// A brittle material's tensile strength f_t (Pa; Rankine's criterion): the largest
+    /// principal stress of σ = −pI + s is held at or below it, and where it reaches it the
+    /// material cracks (see [`Strength::with_tensile_strength`]).
+    pub tensile_strength: Option<f64>,
     /// How plastic work heats the material, for the temperature-rise output (Johnson–Cook
     /// carries its own).
     pub heating: Option<PlasticHeating>,
@@ -117,6 +121,7 @@ impl Strength {
         }
         Ok(Self {
             heating: None,
+            tensile_strength: None,
             shear_modulus,
             surface: YieldSurface::VonMises {
                 yield_stress,
@@ -131,6 +136,7 @@ impl Strength {
         positive("shear modulus", shear_modulus)?;
         Ok(Self {
             heating: None,
+            tensile_strength: None,
             shear_modulus,
             surface: YieldSurface::VonMises {
                 yield_stress: f64::INFINITY,
@@ -159,6 +165,27 @@ impl Strength {
                 specific_heat,
                 taylor_quinney,
             }),
+            ..self
+        })
+    }
+
+    /// The same strength with a tensile strength f_t > 0 (Pa) on the largest principal stress
+    /// (Rankine), the cracking of a brittle solid such as concrete. Where a trial stress
+    /// exceeds it, the deviator is scaled towards the hydrostatic axis until the largest
+    /// principal stress is f_t (all of it where the pressure alone is a tension beyond f_t):
+    /// the radial return of [`Strength::return_map`] onto a tension cutoff. Drucker–Prager
+    /// has its own cutoff on the pressure and refuses a second one.
+    pub fn with_tensile_strength(self, tensile_strength: f64) -> Result<Self, SolverError> {
+        positive("tensile strength", tensile_strength)?;
+        if matches!(self.surface, YieldSurface::DruckerPrager { .. }) {
+            return Err(SolverError::invalid(
+                "tensile strength",
+                tensile_strength,
+                "none with Drucker-Prager (its tension cutoff is on the pressure)",
+            ));
+        }
+        Ok(Self {
+            tensile_strength: Some(tensile_strength),
             ..self
         })
     }
@@ -216,6 +243,7 @@ impl Strength {
         }
         Ok(Self {
             heating: None,
+            tensile_strength: None,
             shear_modulus,
             surface: YieldSurface::DruckerPrager {
                 cohesion,
@@ -259,6 +287,7 @@ impl Strength {
         }
         Ok(Self {
             heating: None,
+            tensile_strength: None,
             shear_modulus,
             surface: YieldSurface::JohnsonCook(jc),
         })
@@ -322,15 +351,24 @@ impl Strength {
         }
     }
 
-    /// Whether a particle at pressure p has failed in tension (no shear strength).
-    pub fn failed_in_tension(&self, pressure: f64) -> bool {
-        matches!(self.surface, YieldSurface::DruckerPrager { tensile_strength, .. }
-            if pressure < -tensile_strength)
+    /// Whether a particle at pressure p with deviatoric stress s has failed in tension: a soil
+    /// below its tension cutoff (no shear strength), a brittle solid with its largest principal
+    /// stress at its tensile strength (cracked; to 1e-9 of f_t, as the return leaves it).
+    pub fn failed_in_tension<const D: usize>(&self, pressure: f64, s: &SMatrix<f64, D, D>) -> bool {
+        if let YieldSurface::DruckerPrager {
+            tensile_strength, ..
+        } = self.surface
+        {
+            return pressure < -tensile_strength;
+        }
+        self.tensile_strength
+            .is_some_and(|limit| largest_principal_deviator(s) - pressure >= limit * (1.0 - 1e-9))
     }
 
     /// Radial return of `s` onto the yield surface in `state` (the deviator is scaled at fixed
-    /// p, Wilkins' scheme; for Drucker–Prager a non-associated return). Returns the increment
-    /// of equivalent plastic strain (0 where the state is elastic).
+    /// p, Wilkins' scheme; for Drucker–Prager a non-associated return), then onto the tension
+    /// cutoff of a brittle solid. Returns the increment of equivalent plastic strain (0 where
+    /// the state is elastic or only cracked).
     pub fn return_map<const D: usize>(
         &self,
         s: &mut SMatrix<f64, D, D>,
@@ -338,12 +376,25 @@ impl Strength {
     ) -> f64 {
         let sigma_eq = von_mises(s);
         let yield_stress = self.current_yield(state);
-        if sigma_eq <= yield_stress {
-            return 0.0;
+        let increment = if sigma_eq > yield_stress {
+            // consistency with hardening: σ_eq − 3G Δε = Y0 + H (ε_p + Δε)
+            let increment =
+                (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.hardening());
+            *s *= ((sigma_eq - 3.0 * self.shear_modulus * increment) / sigma_eq).max(0.0);
+            increment
+        } else {
+            0.0
+        };
+        if let Some(limit) = self.tensile_strength {
+            // Rankine: −p + s₁ ≤ f_t, with s₁ the largest principal deviatoric stress; scaling
+            // s keeps its principal directions. Cracking is not plastic flow: the strain it
+            // releases is no plastic strain (the shear energy it frees stays in the internal
+            // energy, as the stress power booked it)
+            let s1 = largest_principal_deviator(s);
+            if s1 - state.pressure > limit {
+                *s *= ((limit + state.pressure) / s1).clamp(0.0, 1.0);
+            }
         }
-        // consistency with hardening: σ_eq − 3G Δε = Y0 + H (ε_p + Δε)
-        let increment = (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.hardening());
-        *s *= ((sigma_eq - 3.0 * self.shear_modulus * increment) / sigma_eq).max(0.0);
         increment
     }
 }
@@ -365,6 +416,22 @@ pub fn full_contraction<const D: usize>(s: &SMatrix<f64, D, D>) -> f64 {
     } else {
         in_plane + s.trace().powi(2) / out_of_plane as f64
     }
+}
+
+/// The full 3D deviator whose in-plane block is `s`: each of the 3 − D out-of-plane normals is
+/// −tr s/(3 − D) (see the module note).
+pub fn full_deviator<const D: usize>(s: &SMatrix<f64, D, D>) -> Matrix3<f64> {
+    let mut full = Matrix3::zeros();
+    full.fixed_view_mut::<D, D>(0, 0).copy_from(s);
+    for a in D..3 {
+        full[(a, a)] = -s.trace() / (3 - D) as f64;
+    }
+    full
+}
+
+/// The largest principal value of the full 3D deviator whose in-plane block is `s`.
+pub fn largest_principal_deviator<const D: usize>(s: &SMatrix<f64, D, D>) -> f64 {
+    full_deviator(s).symmetric_eigenvalues().max()
 }
 
 /// Von Mises equivalent stress √(3/2 s:s).
@@ -465,6 +532,78 @@ mod tests {
         assert!((equivalent - equivalent_strain_rate(&d3, 0.0)).abs() < 1e-12);
     }
 
+    fn concrete() -> Strength {
+        // C35/45: von Mises at f_ck = 35 MPa, f_ctm = 3.2 MPa (EN 1992-1-1 Table 3.1)
+        Strength::new(14e9, 35e6, 0.0)
+            .unwrap()
+            .with_tensile_strength(3.2e6)
+            .unwrap()
+    }
+
+    /// The largest principal deviatoric stress of an in-plane block is the closed form of a
+    /// 2 × 2 block, (a + d)/2 + √(((a − d)/2)² + b²), or the out-of-plane normal −(a + d)
+    /// where that is larger; in 1D the axial value or the transverse −s_xx/2.
+    #[test]
+    fn the_largest_principal_deviator_takes_the_out_of_plane_normals() {
+        let (a, b, d): (f64, f64, f64) = (3.0, 1.5, -1.0);
+        let closed = 0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b * b).sqrt();
+        let s = Matrix2::new(a, b, b, d);
+        assert!((largest_principal_deviator(&s) - closed).abs() < 1e-12);
+        // both in-plane normals negative: the out-of-plane one is the largest
+        let s = Matrix2::new(-2.0, 0.5, 0.5, -1.0);
+        assert!((largest_principal_deviator(&s) - 3.0).abs() < 1e-12);
+        assert!((largest_principal_deviator(&Matrix1::new(4.0)) - 4.0).abs() < 1e-12);
+        assert!((largest_principal_deviator(&Matrix1::new(-4.0)) - 2.0).abs() < 1e-12);
+    }
+
+    /// Rankine's cutoff: a trial stress whose largest principal value −p + s₁ exceeds f_t is
+    /// scaled along its own deviator until it equals f_t (principal directions kept, no
+    /// plastic strain, the particle cracked); a pressure that is alone a tension beyond f_t
+    /// leaves no deviator; compression and stresses under f_t are untouched.
+    #[test]
+    fn a_brittle_solid_cracks_at_its_tensile_strength() {
+        let solid = concrete();
+        let at = |pressure: f64| YieldState {
+            pressure,
+            ..Default::default()
+        };
+        // plane strain, p = −1 MPa, s with principal values ±5 MPa in plane, 0 out of plane
+        let trial = Matrix2::new(3e6, 4e6, 4e6, -3e6);
+        let mut s = trial;
+        assert_eq!(solid.return_map(&mut s, &at(-1e6)), 0.0);
+        assert!((largest_principal_deviator(&s) + 1e6 - 3.2e6).abs() < 1e-6);
+        assert!((s - trial * (2.2 / 5.0)).norm() < 1e-6);
+        assert!(solid.failed_in_tension(-1e6, &s));
+        // hydrostatic tension 4 MPa beyond f_t: nothing of the deviator is left
+        let mut s = trial;
+        solid.return_map(&mut s, &at(-4e6));
+        assert_eq!(s, Matrix2::zeros());
+        assert!(solid.failed_in_tension(-4e6, &s));
+        // under a compression of 10 MPa the same deviator is elastic: σ₁ = −5 MPa
+        let mut s = trial;
+        assert_eq!(solid.return_map(&mut s, &at(10e6)), 0.0);
+        assert_eq!(s, trial);
+        assert!(!solid.failed_in_tension(10e6, &s));
+        // without a tensile strength the same tension is elastic
+        let ductile = Strength::new(14e9, 35e6, 0.0).unwrap();
+        let mut s = trial;
+        ductile.return_map(&mut s, &at(-1e6));
+        assert_eq!(s, trial);
+        assert!(!ductile.failed_in_tension(-1e6, &s));
+    }
+
+    /// A tensile strength must be finite and positive, and Drucker–Prager keeps its own.
+    #[test]
+    fn a_tensile_strength_is_checked_by_name() {
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let err = copper().with_tensile_strength(bad).unwrap_err().to_string();
+            assert!(err.contains("tensile strength"), "{err}");
+        }
+        let soil = Strength::drucker_prager(1e7, 0.0, 30.0, 0.0).unwrap();
+        let err = soil.with_tensile_strength(1e3).unwrap_err().to_string();
+        assert!(err.contains("Drucker-Prager"), "{err}");
+    }
+
     /// A rigid rotation (no strain) leaves σ_eq unchanged: the Jaumann rate of a spin is
     /// tangent to the sphere s:s = const.
     #[test]
@@ -515,7 +654,8 @@ mod tests {
         assert!((at(0.0) - 6.0 * 10e3 * cos / (3.0 - sin)).abs() < 1e-6);
         assert!(((at(2e5) - at(1e5)) / 1e5 - 6.0 * sin / (3.0 - sin)).abs() < 1e-12);
         assert_eq!(at(-2e3), 0.0);
-        assert!(soil.failed_in_tension(-2e3) && !soil.failed_in_tension(-0.5e3));
+        let s = Matrix2::zeros();
+        assert!(soil.failed_in_tension(-2e3, &s) && !soil.failed_in_tension(-0.5e3, &s));
         let mut s = Matrix2::new(1e6, 0.0, 0.0, -1e6);
         soil.return_map(
             &mut s,

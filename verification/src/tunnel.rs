@@ -35,12 +35,15 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// The study's tunnel: internal diameter and lining thickness (the source thesis gives
-/// neither; these are the defaults the study states), the lining's von Mises yield stress.
+/// neither; these are the defaults the study states), the lining's von Mises yield stress and
+/// its tensile strength (Rankine: where the largest principal stress reaches it the lining
+/// cracks, its status `failed`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Tunnel {
     pub inner_diameter_m: f64,
     pub lining_m: f64,
     pub lining_yield_pa: f64,
+    pub lining_tensile_strength_pa: f64,
 }
 
 impl Default for Tunnel {
@@ -48,8 +51,11 @@ impl Default for Tunnel {
         Self {
             inner_diameter_m: 6.0,
             lining_m: 0.35,
-            // the compressive strength of the library's 35 MPa concrete
+            // concrete C35/45 (EN 1992-1-1:2004 Table 3.1): the characteristic compressive
+            // strength f_ck as the yield stress, as the source thesis models its lining, and
+            // the mean axial tensile strength f_ctm (reference_data/concrete_lining.csv)
             lining_yield_pa: 35e6,
+            lining_tensile_strength_pa: 3.2e6,
         }
     }
 }
@@ -278,7 +284,7 @@ sides = {{ x_min = "open", x_max = "open", y_min = "open", y_max = "open" }}
 [[material]]
 name = "lining"
 library = "concrete"
-von_mises = {{ yield = {yield_pa}, poisson = 0.2 }}
+von_mises = {{ yield = {yield_pa}, poisson = 0.2, tensile_strength = {tensile_pa} }}
 
 [[body]]
 name = "band"
@@ -307,6 +313,7 @@ position = [0.0, {invert_z}]
         // twenty particle snapshots of the section (pressure, von Mises stress, status)
         snapshot_interval = end_time / 20.0,
         yield_pa = tunnel.lining_yield_pa,
+        tensile_pa = tunnel.lining_tensile_strength_pa,
         xmin = -w,
         zmin = centre_z - w,
         zmax = centre_z + w,
@@ -1391,11 +1398,14 @@ fn report_content(study: &Study) -> ReportContent {
         format!("Gate: {}", gate.join("; ")),
         format!("Level: {}; model: {}.", study.level, study.model),
         format!(
-            "Tunnel: {} m internal diameter, {} m concrete lining (von Mises, yield {} MPa). \
-             The source thesis gives neither size: these are the study's defaults.",
+            "Tunnel: {} m internal diameter, {} m concrete lining (C35/45: von Mises, yield \
+             {} MPa; cracks where the largest principal stress reaches its tensile strength \
+             {} MPa, status failed). The source thesis gives neither size: these are the \
+             study's defaults.",
             t.inner_diameter_m,
             t.lining_m,
-            1e-6 * t.lining_yield_pa
+            1e-6 * t.lining_yield_pa,
+            1e-6 * t.lining_tensile_strength_pa
         ),
         format!(
             "Soil: {} (TM 5-855-1), simulated as the library's {} with Drucker–Prager \

@@ -12,7 +12,7 @@ pub(crate) fn status_code<const D: usize>(sim: &Simulation<D>, i: usize) -> f64 
     let Some(strength) = sim.materials()[p.material_of(i)].strength else {
         return 0.0;
     };
-    if strength.failed_in_tension(p.pressure[i]) {
+    if strength.failed_in_tension(p.pressure[i], &p.deviatoric_stress[i]) {
         return 2.0;
     }
     let limit = strength.current_yield(&p.yield_state(i));

@@ -689,7 +689,11 @@ fn shell_order_check(s: &Settings, model: &str, n: usize, run: &Run) -> Check {
             .unwrap_or(f64::NAN)
     };
     let (sand, products) = (count("sand"), count("products"));
-    let check = Check::at_most(format!("crossed_shells_{model}_n_{n}"), sand + products, 0.0);
+    let check = Check::at_most(
+        format!("crossed_shells_{model}_n_{n}"),
+        sand + products,
+        0.0,
+    );
     if check.pass || run.failure.is_some() {
         return check;
     }
@@ -698,7 +702,10 @@ fn shell_order_check(s: &Settings, model: &str, n: usize, run: &Run) -> Check {
         .iter()
         .map(|r| {
             let key = format!("peak_stress_time_over_arrival_r{r}");
-            format!("{:.2} at {r} m", run.metrics.get(&key).copied().unwrap_or(f64::NAN))
+            format!(
+                "{:.2} at {r} m",
+                run.metrics.get(&key).copied().unwrap_or(f64::NAN)
+            )
         })
         .collect();
     check.known_limit(format!(

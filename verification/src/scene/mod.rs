@@ -208,6 +208,9 @@ struct VonMisesFile {
     yield_stress: f64,
     #[serde(default = "default_poisson")]
     poisson: f64,
+    /// A brittle solid's tensile strength (Pa): it cracks where the largest principal stress
+    /// reaches it.
+    tensile_strength: Option<f64>,
 }
 
 /// Poisson's ratio of a soil or concrete when a scene gives none (the value `ground-shock`'s
@@ -916,10 +919,16 @@ fn scene_material(
             )
             .map_err(|e| named(e.into()))?,
         ),
-        (None, Some(vm)) => Some(
-            Strength::new(shear(poisson_ok(vm.poisson)?), vm.yield_stress, 0.0)
-                .map_err(|e| named(e.into()))?,
-        ),
+        (None, Some(vm)) => {
+            let strength = Strength::new(shear(poisson_ok(vm.poisson)?), vm.yield_stress, 0.0)
+                .map_err(|e| named(e.into()))?;
+            Some(match vm.tensile_strength {
+                Some(f_t) => strength
+                    .with_tensile_strength(f_t)
+                    .map_err(|e| named(e.into()))?,
+                None => strength,
+            })
+        }
         (None, None) => None,
     };
     if strength.is_some() && base.detonation_speed.is_some() {

@@ -687,7 +687,7 @@ pub fn run_with<const D: usize>(
         let p = sim.particles();
         for i in 0..p.n_real() {
             if let Some(strength) = sim.materials()[p.material_of(i)].strength {
-                if strength.failed_in_tension(p.pressure[i]) {
+                if strength.failed_in_tension(p.pressure[i], &p.deviatoric_stress[i]) {
                     ever_failed[p.id[i] as usize] = true;
                 }
             }

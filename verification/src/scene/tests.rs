@@ -155,6 +155,27 @@ fn a_non_positive_spacing_is_refused_with_the_allowed_range() {
     assert!(message.contains("≤ body.spacing ≤"), "{message}");
 }
 
+/// A lining given a tensile strength cracks by Rankine's criterion; a non-positive one is
+/// refused on its material's line, by name.
+#[test]
+fn a_brittle_lining_takes_a_positive_tensile_strength() {
+    let brittle = VALID.replace(
+        "von_mises = { yield = 30e6 }",
+        "von_mises = { yield = 30e6, tensile_strength = 3e6 }",
+    );
+    let scene = Scene::parse(&brittle).expect("a brittle lining reads");
+    let lining = scene.materials.iter().find(|m| m.name == "lining").unwrap();
+    assert_eq!(lining.strength.unwrap().tensile_strength, Some(3e6));
+    let (line, _, message) =
+        error_of(&brittle.replace("tensile_strength = 3e6", "tensile_strength = -3e6"));
+    let material_line = brittle
+        .lines()
+        .position(|l| l.starts_with("von_mises"))
+        .unwrap();
+    assert!(line.abs_diff(material_line + 1) <= 3, "line {line}");
+    assert!(message.contains("tensile strength"), "{message}");
+}
+
 #[test]
 fn a_truncated_file_is_refused() {
     let cut = VALID.find("[[body]]").expect("a body") + 12;
