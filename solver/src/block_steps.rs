@@ -108,12 +108,13 @@ impl BlockSteps {
 
     /// The longest step a particle may start at the current tick: the largest power of two
     /// that divides it (the whole block at its start), so that the step ends on the
-    /// hierarchy, and never past the block's end.
+    /// hierarchy. It never reaches past the block's end: a tick k·2^j (k odd) before the
+    /// power-of-two end 2^L has (k + 1)·2^j ≤ 2^L.
     fn aligned(&self) -> u64 {
         if self.now == 0 {
             self.length
         } else {
-            (1u64 << self.now.trailing_zeros()).min(self.length - self.now)
+            1u64 << self.now.trailing_zeros()
         }
     }
 
@@ -224,6 +225,30 @@ mod tests {
         // a particle without neighbours has no limit
         assert!(!block.must_wake(1, u64::MAX));
         assert_eq!(block.end_early(1), (64.0, 1.0));
+        assert!(block.ends_now(1));
+    }
+
+    /// A step woken part-way ends at the current tick, as long as it has run since it started
+    /// (here a step of 2 started at tick 2, woken at tick 3).
+    #[test]
+    fn a_woken_step_is_as_long_as_it_has_run() {
+        let mut block = BlockSteps::new(0.0, &[1.0, 64.0], 1024, 1000.0);
+        let one = block.length >> 6;
+        block.start_step(0, 1.0, u64::MAX).unwrap();
+        block.start_step(1, 2.0, u64::MAX).unwrap();
+        block.advance();
+        block.start_step(0, 1.0, u64::MAX).unwrap();
+        block.end_early(1);
+        block.start_step(1, 2.0, u64::MAX).unwrap();
+        assert_eq!(block.step_of(1), 1.0, "at tick 1 steps are at most 1 long");
+        block.advance();
+        block.start_step(0, 1.0, u64::MAX).unwrap();
+        block.start_step(1, 2.0, u64::MAX).unwrap();
+        assert_eq!(block.step_of(1), 2.0);
+        block.advance();
+        assert_eq!(block.time(), 3.0);
+        assert!(block.must_wake(1, one / 8));
+        assert_eq!(block.end_early(1), (2.0, 1.0));
         assert!(block.ends_now(1));
     }
 
