@@ -219,6 +219,8 @@ mod tests {
         assert_eq!(block.step_of(1), 4.0);
         block.start_step(1, 64.0, u64::MAX).unwrap();
         assert_eq!(block.step_of(1), 64.0);
+        // a step that has not begun cannot end early
+        assert!(!block.must_wake(1, one));
         block.advance();
         assert!(block.must_wake(1, one));
         assert!(!block.must_wake(1, 16 * one));
