@@ -105,9 +105,15 @@ mod tests {
         let err = ProgrammedBurn::from_points(&x, |_| true, &[], 1.0, 2.0).unwrap_err();
         assert!(err.to_string().contains("detonation points"));
         let p = [Vector::<1>::new(0.0)];
-        let err = ProgrammedBurn::from_points(&x, |_| true, &p, -1.0, 2.0).unwrap_err();
-        assert!(err.to_string().contains("detonation speed"));
-        let err = ProgrammedBurn::from_points(&x, |_| true, &p, 1.0, 0.0).unwrap_err();
-        assert!(err.to_string().contains("burn ramp"));
+        // a charge that never detonates, or never finishes, is refused
+        for speed in [-1.0, 0.0, f64::INFINITY] {
+            let err = ProgrammedBurn::from_points(&x, |_| true, &p, speed, 2.0).unwrap_err();
+            assert!(err.to_string().contains("detonation speed"), "{speed}");
+        }
+        for ramp in [0.0, 10.5] {
+            let err = ProgrammedBurn::from_points(&x, |_| true, &p, 1.0, ramp).unwrap_err();
+            assert!(err.to_string().contains("burn ramp"), "{ramp}");
+        }
+        assert!(ProgrammedBurn::from_points(&x, |_| true, &p, 1.0, 10.0).is_ok());
     }
 }
