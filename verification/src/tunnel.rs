@@ -1549,6 +1549,21 @@ pub fn report_html(study: &Study, figures: &[(String, Figure)]) -> String {
 mod tests {
     use super::*;
 
+    /// A small tunnel (2 m inside, 0.3 m lining) at the coarsest resolution that runs: the
+    /// wiring, two particles across the lining.
+    fn small_tunnel() -> (Tunnel, Resolution) {
+        let tunnel = Tunnel {
+            inner_diameter_m: 2.0,
+            lining_m: 0.3,
+            ..Tunnel::default()
+        };
+        let coarse = Resolution {
+            across_charge: 4,
+            across_lining: 2,
+        };
+        (tunnel, coarse)
+    }
+
     /// A small case through the whole reduced model (free field, then the section with and
     /// without the tunnel): the lining's gauges read the lining; the front reaches the crown no
     /// sooner than the fastest wave could, and within 30 % of the free field's arrival there;
@@ -1558,37 +1573,21 @@ mod tests {
     #[test]
     fn a_small_case_runs_through_the_reduced_model() {
         let out = std::env::temp_dir().join(format!("blastsph-tunnel-{}", std::process::id()));
-        let tunnel = Tunnel {
-            inner_diameter_m: 2.0,
-            lining_m: 0.3,
-            ..Tunnel::default()
+        let (tunnel, coarse) = small_tunnel();
+        let run = |progress: &(dyn Fn(&str, f64) + Sync)| {
+            run_charge(
+                50.0,
+                &[8.0],
+                &Soil::default(),
+                tunnel,
+                coarse,
+                &out,
+                progress,
+            )
         };
-        // the wiring at the coarsest resolution that runs: two particles across the lining
-        let coarse = Resolution {
-            across_charge: 4,
-            across_lining: 2,
-        };
-        let cases = run_charge(
-            50.0,
-            &[8.0],
-            &Soil::default(),
-            tunnel,
-            coarse,
-            &out,
-            &|_, _| {},
-        )
-        .expect("the case runs");
+        let cases = run(&|_, _| {}).expect("the case runs");
         // run again into the same folder: the case is kept, nothing runs, the report is the same
-        let again = run_charge(
-            50.0,
-            &[8.0],
-            &Soil::default(),
-            tunnel,
-            coarse,
-            &out,
-            &|_, _| panic!("a kept case runs nothing"),
-        )
-        .expect("the kept case is read");
+        let again = run(&|_, _| panic!("a kept case runs nothing")).expect("the kept case is read");
         let _ = std::fs::remove_dir_all(&out);
         let case = &cases[0];
         assert!(!case.reused && again[0].reused);
@@ -1624,15 +1623,7 @@ mod tests {
     /// does another charge.
     #[test]
     fn a_case_is_kept_while_what_decides_it_is_unchanged() {
-        let tunnel = Tunnel {
-            inner_diameter_m: 2.0,
-            lining_m: 0.3,
-            ..Tunnel::default()
-        };
-        let coarse = Resolution {
-            across_charge: 4,
-            across_lining: 2,
-        };
+        let (tunnel, coarse) = small_tunnel();
         let hash_at_8m = |charge_kg: f64, depths: &[f64]| {
             let runs = prepare_charge(charge_kg, depths, &Soil::default(), tunnel, coarse)
                 .expect("the scenes build");
