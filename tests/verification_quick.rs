@@ -354,8 +354,10 @@ fn airblast_free_air_passes_its_quick_checks() {
 }
 
 /// A 1 kg TNT hemisphere on rigid ground (its mirror image: a 2 kg sphere) against
-/// Kingery–Bulmash hemispherical, from Z = 2 out (Z = 1 lies within Z = 1 of the 2 kg sphere);
-/// the relations' own free-air 2W over hemispherical ratio is in the record beside each gauge.
+/// Kingery–Bulmash hemispherical, from Z = 2 out (Z = 1 lies within Z = 1 of the 2 kg sphere),
+/// the peaks closer at 80 than at 40 to the free-air relation of the 2 kg sphere the scene
+/// simulates; the relations' own free-air 2W over hemispherical ratio is in the record beside
+/// each gauge.
 #[test]
 fn airblast_surface_passes_its_quick_checks() {
     let output = run("airblast-surface", &[]);

@@ -29,6 +29,11 @@
 //! bunched far closer than their densities say (continuity density with h floored does not
 //! see it), and the expanding products' shells grow coarse.
 //!
+//! Individual time steps (`step_ratio`, 64 by default): the hot products and the fine shells
+//! by the contact set the shortest steps, the wide shells far out step up to 64 times longer.
+//! At n = 80 (free air) they do 8 % of the global steps' particle updates in two thirds of
+//! the time, every gated peak within 1 % of the global run's.
+//!
 //! The viscosity carries Morris & Monaghan's switch (α from 1 at the shock down to
 //! α_min = 0.1 behind it): with a constant α = 1 a weak shock is smeared over about
 //! α c/Δu smoothing lengths, some 20 at Z = 8 (overpressure ≈ 10 kPa, Δu ≈ 0.06 c), which
@@ -117,6 +122,7 @@ pub fn infos() -> Vec<super::ProblemInfo> {
             ),
             // η = 2 as in the other 1D problems
             ParamSpec::new("eta", 2.0, "smoothing length h = η·(shell width)"),
+            ParamSpec::step_ratio(64),
         ]
     };
     vec![
@@ -178,7 +184,7 @@ fn settings(params: &Params, burst: Burst, charge_kg: f64) -> Result<Settings, V
         detonation_speed,
         ambient_pressure: library.value("air", "p0")?,
         config: SimulationConfig {
-            time_steps: blastsph_solver::TimeSteps::Global,
+            time_steps: params.time_steps()?,
             formulation: Formulation::Spherical(ShellDensity::Continuity(
                 SmoothingLength::FollowDensityFloored { eta },
             )),
@@ -220,15 +226,11 @@ const REZONE_FIRST: f64 = 5.0;
 /// interleave at the contact they are stacked apart); each old shell's mass is spread evenly
 /// over its stacked cell and each new cell takes what overlaps it (its velocity the momentum
 /// over the mass, its e the rest of the total energy), so the remapped densities, and with
-/// them the pressures, are the old ones. The products get n equal shells, the air shells
-/// max(contact/n, g·r/n) wide; beyond, the shells keep their state and move as one to where
+/// them the pressures, are the old ones. The products get n equal shells; the air's shells
+/// grade geometrically from contact/n wide at the contact to the width of the first shell
+/// kept beyond; beyond, the shells keep their state and move as one to where
 /// the stack ends. Refused (`Err`) where a new cell would be empty.
-fn rezone(
-    sim: &Simulation<1>,
-    n: usize,
-    grading: f64,
-    eta: f64,
-) -> Result<Vec<ParticleInit<1>>, String> {
+fn rezone(sim: &Simulation<1>, n: usize, eta: f64) -> Result<Vec<ParticleInit<1>>, String> {
     let p = sim.particles();
     // products first, then air, each in its own radial order: where the two interleave at the
     // contact they are stacked apart, each shell keeping its volume m/ρ
@@ -264,15 +266,26 @@ fn rezone(
     } else {
         0.0
     };
-    let contact = edges[products];
     let inner = contact / n as f64;
     let mut fresh_edges: Vec<f64> = (0..=n).map(|k| k as f64 * inner).collect();
     fresh_edges[n] = contact;
+    let outer = edges[end];
+    // the air's widths go geometrically from the products' to that of the first kept shell
+    // (the lattice the scene began with), so that no shell is more than a few per cent wider
+    // than its neighbour: a jump in width (and h) at the stack's end sends out a pressure
+    // pulse of its own
+    let kept_width = if end < order.len() {
+        edges[end + 1] - edges[end]
+    } else {
+        inner
+    };
+    let width = |x: f64| inner * (kept_width / inner).powf((x - contact) / (outer - contact));
     let mut x = contact;
-    while x < edges[end] {
-        x = (x + inner.max(grading * x / n as f64)).min(edges[end]);
-        if edges[end] - x < 0.5 * inner {
-            x = edges[end];
+    while x < outer {
+        let w = width(x);
+        x = (x + w).min(outer);
+        if outer - x < 0.5 * width(x) {
+            x = outer;
         }
         fresh_edges.push(x);
     }
@@ -454,15 +467,17 @@ fn run_one(
     let (mut rezones, mut refused_rezones) = (0, 0);
     let mut steps = 0;
     while offset + sim.time() < t_end {
-        outcome = sim.step_toward(t_end - offset);
+        // the run stops exactly at each rezone, where every particle's step has ended
+        let stop = rezone_at.min(t_end) - offset;
+        outcome = sim.step_toward(stop);
         if outcome.is_err() {
             break;
         }
         read_gauges(&sim, offset, s.ambient_pressure, &mut traces);
         progress((offset + sim.time()) / t_end);
-        if offset + sim.time() >= rezone_at && offset + sim.time() < t_end {
+        if sim.time() >= stop && rezone_at < t_end {
             let eta = s.config.formulation.eta().unwrap_or(2.0);
-            let fresh = match rezone(&sim, n, s.grading, eta) {
+            let fresh = match rezone(&sim, n, eta) {
                 Ok(fresh) => fresh,
                 Err(_) => {
                     refused_rezones += 1;
@@ -509,25 +524,39 @@ fn run_one(
             run.metrics
                 .insert(format!("{q}_over_kingery_bulmash_z{z}"), value / relation);
         }
+        // the free-air relation for the sphere the scene simulates: W in free air, or the
+        // hemisphere with its mirror image, 2W
+        let sphere = air_blast(Burst::FreeAir, s.simulated_charge_kg(), trace.position_m)?;
+        run.errors.insert(
+            format!("peak_overpressure_error_simulated_sphere_z{z}"),
+            relative_error(gauge.peak_pressure_pa, sphere.incident_overpressure_pa),
+        );
         if s.burst == Burst::Hemispherical {
             // how far the relations themselves put a rigid mirror (a 2W sphere in free air)
             // above the measured surface bursts, whose ground took up some of the energy
-            let mirror = air_blast(Burst::FreeAir, 2.0 * s.charge_kg, trace.position_m)?;
             run.metrics.insert(
                 format!("kingery_bulmash_free_air_2w_over_hemispherical_peak_z{z}"),
-                mirror.incident_overpressure_pa / kb.incident_overpressure_pa,
+                sphere.incident_overpressure_pa / kb.incident_overpressure_pa,
             );
         }
         run.gauges.push(gauge);
     }
     let gated = gated_z(s);
-    let mean_peak_error = gated
-        .iter()
-        .map(|z| run.errors[&format!("peak_overpressure_error_z{z}")])
-        .sum::<f64>()
-        / gated.len() as f64;
+    let mean_over_gated = |q: &str| {
+        gated
+            .iter()
+            .map(|z| run.errors[&format!("{q}_z{z}")])
+            .sum::<f64>()
+            / gated.len() as f64
+    };
+    let mean_peak_error = mean_over_gated("peak_overpressure_error");
+    let mean_sphere_error = mean_over_gated("peak_overpressure_error_simulated_sphere");
     run.errors
         .insert("mean_peak_overpressure_error".into(), mean_peak_error);
+    run.errors.insert(
+        "mean_peak_overpressure_error_simulated_sphere".into(),
+        mean_sphere_error,
+    );
     let m = &mut run.metrics;
     m.insert("charge_radius_m".into(), radius);
     m.insert("t_end_s".into(), t_end);
@@ -696,10 +725,14 @@ fn against_relations(
     }
     if measured.len() >= 2 {
         // the peak is what resolution sharpens: the mean peak error over the gated gauges
-        // must fall from the coarsest run to the finest
+        // must fall from the coarsest run to the finest. It is measured against the free-air
+        // relation of the sphere the scene simulates, the answer its refinement approaches:
+        // for the surface burst the rigid mirror's 2W sphere, which the relations put 4–16 %
+        // above the measured hemispherical bursts (a peak converging there may move away
+        // from the hemispherical relation as it sharpens)
         let mean_peak_error = |run: &Run| {
             run.errors
-                .get("mean_peak_overpressure_error")
+                .get("mean_peak_overpressure_error_simulated_sphere")
                 .copied()
                 .unwrap_or(f64::NAN)
         };
@@ -968,7 +1001,7 @@ mod tests {
             ..SimulationConfig::default()
         };
         let sim = Simulation::<1>::new(&init, materials, Domain::open(), config).unwrap();
-        let fresh = rezone(&sim, 10, 0.2, 2.0).unwrap();
+        let fresh = rezone(&sim, 10, 2.0).unwrap();
         let totals = |material: u16, shells: &mut dyn Iterator<Item = (u16, f64, f64, f64)>| {
             shells
                 .filter(|s| s.0 == material)
