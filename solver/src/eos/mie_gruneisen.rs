@@ -212,6 +212,22 @@ mod tests {
         }
     }
 
+    /// In tension the reference is the linear elastic curve p = ρ0 C0² η (η = 1 − ρ0/ρ < 0),
+    /// not the Hugoniot's η/Δ² continued below ρ0 (which at 2 % tension in copper lies 6 %
+    /// away); and at ρ0 the bulk sound speed is the Hugoniot's intercept C0, the speed of a
+    /// shock of vanishing strength.
+    #[test]
+    fn tension_follows_the_linear_elastic_curve() {
+        for eos in [copper(), pmma()] {
+            let k = eos.rho0 * eos.c0 * eos.c0;
+            let rho = eos.rho0 / 1.02;
+            let eta = 1.0 - eos.rho0 / rho;
+            assert!((eos.pressure(rho, 0.0) / (k * eta) - 1.0).abs() < 1e-12);
+            let c = eos.sound_speed(eos.rho0 * (1.0 - 1e-9), 0.0);
+            assert!((c / eos.c0 - 1.0).abs() < 1e-6, "{c}");
+        }
+    }
+
     #[test]
     fn linear_shock_velocity_is_c0_plus_s1_up() {
         let cu = copper();
