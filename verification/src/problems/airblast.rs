@@ -966,8 +966,8 @@ fn outputs(name: &str, s: &Settings, m: &Measured) -> Result<(Table, Figure), Ve
 mod tests {
     use super::*;
 
-    /// Per material, the rezone keeps mass, momentum and total energy to round-off, and the
-    /// products end up inside the air.
+    /// Per material, the rezone keeps mass, momentum and total energy to round-off, the
+    /// products end up inside the air, and the air's shell widths have no jump.
     #[test]
     fn rezone_conserves_each_materials_mass_momentum_and_energy() {
         let library = Library::standard();
@@ -1044,6 +1044,24 @@ mod tests {
             .map(|q| q.position[0])
             .fold(f64::INFINITY, f64::min);
         assert!(outermost_products < innermost_air);
+        // no jump in the air's shell widths (h/η), the stack's end included, where the fresh
+        // shells by the contact (contact/n = 0.0125 m with n = 4, as after the products have
+        // expanded) are 2.5 times wider than the kept air shells (0.005 m) and the stack is
+        // 0.05 m long: graded geometrically, neighbours differ by (0.4)^(0.0125/0.05) → 1.26,
+        // the last fresh shell by up to half a width more; a width of contact/n throughout
+        // jumps by 2.5 at the stack's end
+        let coarse = rezone(&sim, 4, 2.0).unwrap();
+        let mut air: Vec<(f64, f64)> = coarse
+            .iter()
+            .filter(|q| q.material == 1)
+            .map(|q| (q.position[0], q.smoothing_length))
+            .collect();
+        air.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let largest_ratio = air
+            .windows(2)
+            .map(|w| (w[1].1 / w[0].1).max(w[0].1 / w[1].1))
+            .fold(1.0, f64::max);
+        assert!(largest_ratio < 1.6, "{largest_ratio}");
     }
 
     /// The scaled comparison sees what a length or time fixed in metres or seconds would do:
