@@ -159,6 +159,11 @@ mod tests {
     fn pmma() -> MieGruneisen {
         MieGruneisen::steinberg(1182.0, 2180.0, 2.088, -1.124, 0.0, 0.85, -1e12).unwrap()
     }
+    /// Lead of Steinberg's table (reference_data's hugoniot_linear.csv: C0 2006 m/s, S1 1.429, S2 0.8506, S3 −1.64), every term of
+    /// Δ(η) non-zero.
+    fn lead() -> MieGruneisen {
+        MieGruneisen::steinberg(11340.0, 2006.0, 1.429, 0.8506, -1.64, 2.74, -1e12).unwrap()
+    }
 
     /// Us of Steinberg's table with S3 = 0, solved in closed form from
     /// Us² − (C0 + S1 up) Us − S2 up² = 0 (independent of the EOS's own Newton solve).
@@ -181,10 +186,11 @@ mod tests {
             }
         }
 
-        /// c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ within 1e-6, in compression and in tension.
+        /// c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ within 1e-6, in compression and in tension; lead's
+        /// S3 ≠ 0 puts the cubic term of Δ'(η) in play.
         #[test]
         fn sound_speed_is_the_isentropic_derivative(mu in -0.05f64..0.4, e in 0.0f64..2e6) {
-            for eos in [copper(), pmma()] {
+            for eos in [copper(), pmma(), lead()] {
                 let rho = eos.rho0 * (1.0 + mu);
                 prop_assume!(mu.abs() > 1e-4); // the reference curve's joint at μ = 0
                 prop_assert!(sound_speed_mismatch(&eos, rho, e) <= 1e-6);
@@ -192,13 +198,11 @@ mod tests {
         }
     }
 
-    /// Steinberg's lead (reference_data's hugoniot_linear.csv: C0 2006 m/s, S1 1.429,
-    /// S2 0.8506, S3 −1.64): the shock velocity the EOS solves through η satisfies the table's
+    /// Steinberg's lead ([`lead`]): the shock velocity the EOS solves through η satisfies the table's
     /// own implicit form Us = C0 + S1 up + S2 up²/Us + S3 up³/Us², every term in play.
     #[test]
     fn steinberg_shock_velocity_satisfies_the_implicit_hugoniot() {
-        let lead =
-            MieGruneisen::steinberg(11340.0, 2006.0, 1.429, 0.8506, -1.64, 2.74, -1e12).unwrap();
+        let lead = lead();
         for up in [100.0, 500.0, 1000.0, 2000.0] {
             let us = lead.shock_velocity(up);
             let implicit =
