@@ -159,8 +159,8 @@ mod tests {
     fn pmma() -> MieGruneisen {
         MieGruneisen::steinberg(1182.0, 2180.0, 2.088, -1.124, 0.0, 0.85, -1e12).unwrap()
     }
-    /// Lead of Steinberg's table (reference_data's hugoniot_linear.csv: C0 2006 m/s, S1 1.429, S2 0.8506, S3 −1.64), every term of
-    /// Δ(η) non-zero.
+    /// Lead of Steinberg's table (reference_data's hugoniot_linear.csv: C0 2006 m/s, S1 1.429,
+    /// S2 0.8506, S3 −1.64), every term of Δ(η) non-zero.
     fn lead() -> MieGruneisen {
         MieGruneisen::steinberg(11340.0, 2006.0, 1.429, 0.8506, -1.64, 2.74, -1e12).unwrap()
     }
@@ -198,8 +198,8 @@ mod tests {
         }
     }
 
-    /// Steinberg's lead ([`lead`]): the shock velocity the EOS solves through η satisfies the table's
-    /// own implicit form Us = C0 + S1 up + S2 up²/Us + S3 up³/Us², every term in play.
+    /// Steinberg's lead ([`lead`]): the shock velocity the EOS solves through η satisfies the
+    /// table's own implicit form Us = C0 + S1 up + S2 up²/Us + S3 up³/Us², every term in play.
     #[test]
     fn steinberg_shock_velocity_satisfies_the_implicit_hugoniot() {
         let lead = lead();
