@@ -129,12 +129,12 @@ pub fn infos() -> Vec<super::ProblemInfo> {
         super::ProblemInfo {
             name: FREE_AIR,
             summary: "TNT sphere in free air (1D spherical, JWL + ideal gas) against Kingery–Bulmash",
-            params: scene("40,80", "20,40,80"),
+            params: scene("20,40", "20,40,80"),
         },
         super::ProblemInfo {
             name: SURFACE,
             summary: "TNT hemisphere on rigid ground (its mirror image: a 2W sphere) against Kingery–Bulmash hemispherical",
-            params: scene("40,80", "20,40,80"),
+            params: scene("20,40", "20,40,80"),
         },
         super::ProblemInfo {
             name: HOPKINSON_CRANZ,

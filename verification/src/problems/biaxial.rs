@@ -75,6 +75,8 @@ pub fn info() -> super::ProblemInfo {
 struct Shear {
     seed: u64,
     saturation: f64,
+    /// The loading speed's factor on the problem's (½ in the rate check).
+    slowing: f64,
     confining: f64,
     run: BiaxialRun,
     platen_speed: f64,
@@ -179,33 +181,38 @@ fn platen_speeds(test: &BiaxialTest, sample: &PreparedSample, sigma3: f64) -> (f
     )
 }
 
-/// Runs every sample: one dry preparation per seed and σ3, sheared at each saturation.
+/// One loading of a prepared sample: the saturation it is wetted to and the factor on the
+/// problem's loading speed (1, or ½ for the rate check).
+#[derive(Clone, Copy)]
+struct Loading {
+    saturation: f64,
+    slowing: f64,
+}
+
+/// Runs every sample in one pool: one dry preparation per seed and σ3, each sheared at each of
+/// its loadings; returns the shears and the preparation of each (seed, σ3) in `cases`' order.
 fn shear_all(
     grains: usize,
-    seeds: &[u64],
-    saturations: &[f64],
-    confining: &[f64],
+    cases: &[(u64, f64)],
+    loadings: &(dyn Fn(u64, f64) -> Vec<Loading> + Sync),
     axial_strain: f64,
     progress: &(dyn Fn(f64) + Sync),
-) -> Result<Vec<Shear>, VerifyError> {
-    let cases: Vec<(u64, f64)> = seeds
-        .iter()
-        .flat_map(|&s| confining.iter().map(move |&p| (s, p)))
-        .collect();
+) -> Result<(Vec<Shear>, Vec<PreparedSample>), VerifyError> {
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let total = cases.len() * saturations.len();
-    let shears: Vec<Vec<Shear>> = cases
+    let total: usize = cases.iter().map(|&(s, p)| loadings(s, p).len()).sum();
+    let prepared: Vec<(Vec<Shear>, PreparedSample)> = cases
         .par_iter()
-        .map(|&(seed, sigma3)| -> Result<Vec<Shear>, VerifyError> {
+        .map(|&(seed, sigma3)| -> Result<_, VerifyError> {
             let base = BiaxialTest::source_paper(grains, seed, 0.0, sigma3);
             let start = std::time::Instant::now();
             let (discs, sample) = prepare_sample(&base)?;
             let preparation_s = start.elapsed().as_secs_f64();
-            let speeds = platen_speeds(&base, &sample, sigma3);
-            saturations
+            let (consolidation, speed) = platen_speeds(&base, &sample, sigma3);
+            let shears = loadings(seed, sigma3)
                 .par_iter()
-                .map(|&saturation| {
-                    let shear = shear(&base, (&discs, sample), saturation, speeds, axial_strain)?;
+                .map(|loading| {
+                    let speeds = (consolidation, loading.slowing * speed);
+                    let shear = shear(&base, (&discs, sample), *loading, speeds, axial_strain)?;
                     let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                     progress(n as f64 / total as f64);
                     Ok(Shear {
@@ -213,11 +220,12 @@ fn shear_all(
                         ..shear
                     })
                 })
-                .collect::<Result<Vec<_>, blastsph_solver::SolverError>>()
-                .map_err(VerifyError::from)
+                .collect::<Result<Vec<_>, blastsph_solver::SolverError>>()?;
+            Ok((shears, sample))
         })
         .collect::<Result<_, _>>()?;
-    Ok(shears.into_iter().flatten().collect())
+    let (shears, samples): (Vec<Vec<Shear>>, Vec<PreparedSample>) = prepared.into_iter().unzip();
+    Ok((shears.into_iter().flatten().collect(), samples))
 }
 
 /// Shears a prepared sample (a copy) at one saturation and platen speeds (consolidation,
@@ -225,12 +233,12 @@ fn shear_all(
 fn shear(
     base: &BiaxialTest,
     (discs, sample): (&Discs, PreparedSample),
-    saturation: f64,
+    loading: Loading,
     (consolidation, speed): (f64, f64),
     axial_strain: f64,
 ) -> Result<Shear, blastsph_solver::SolverError> {
     let mut test = *base;
-    test.saturation = saturation;
+    test.saturation = loading.saturation;
     test.loading.consolidation_speed = consolidation;
     test.loading.platen_speed = speed;
     test.loading.axial_strain = axial_strain;
@@ -238,7 +246,8 @@ fn shear(
     let run = shear_prepared(discs.clone(), sample, &test)?;
     Ok(Shear {
         seed: test.seed,
-        saturation,
+        saturation: loading.saturation,
+        slowing: loading.slowing,
         confining: test.loading.confining_stress,
         run,
         platen_speed: speed,
@@ -257,29 +266,18 @@ pub fn biaxial_run(
     sigma3: f64,
     axial_strain: f64,
 ) -> Result<BiaxialRun, VerifyError> {
-    Ok(prepare_and_shear(grains, seed, saturation, sigma3, axial_strain, 1.0)?.run)
-}
-
-/// A fresh preparation sheared with the loading at `slowing` times the problem's speed.
-fn prepare_and_shear(
-    grains: usize,
-    seed: u64,
-    saturation: f64,
-    sigma3: f64,
-    axial_strain: f64,
-    slowing: f64,
-) -> Result<Shear, VerifyError> {
-    let base = BiaxialTest::source_paper(grains, seed, 0.0, sigma3);
-    let (discs, sample) = prepare_sample(&base)?;
-    let (consolidation, speed) = platen_speeds(&base, &sample, sigma3);
-    let speeds = (consolidation, slowing * speed);
-    Ok(shear(
-        &base,
-        (&discs, sample),
+    let loading = Loading {
         saturation,
-        speeds,
+        slowing: 1.0,
+    };
+    let (mut shears, _) = shear_all(
+        grains,
+        &[(seed, sigma3)],
+        &|_, _| vec![loading],
         axial_strain,
-    )?)
+        &|_| {},
+    )?;
+    Ok(shears.remove(0).run)
 }
 
 /// The Mohr–Coulomb fit, or NaN for c and φ where the points admit none (σ1 growing slower than
@@ -330,15 +328,19 @@ fn rumpf_cohesion(wet: &Envelope, layer_thickness: f64, dry_friction_degrees: f6
     tensile * dry_friction_degrees.to_radians().tan()
 }
 
-/// The friction study: the void ratio and coordination of the sample prepared (dry, first seed,
-/// lowest σ3) with each friction coefficient.
+/// The friction study's samples (dry, first seed, lowest σ3), prepared with each friction
+/// coefficient but the source paper's, whose sample the shears prepare.
 fn friction_study(
     grains: usize,
     seed: u64,
     sigma3: f64,
 ) -> Result<Vec<(f64, PreparedSample)>, VerifyError> {
+    let paper = BiaxialTest::source_paper(grains, seed, 0.0, sigma3)
+        .contact
+        .friction;
     FRICTION_STUDY
         .par_iter()
+        .filter(|&&mu| mu != paper)
         .map(|&mu| {
             let mut test = BiaxialTest::source_paper(grains, seed, 0.0, sigma3);
             test.contact.friction = mu;
@@ -376,14 +378,47 @@ pub fn run(
         ));
     }
     let axial_strain = params.number("axial_strain", 0.01, 0.3)?;
-    let shears = shear_all(
-        grains,
-        &seeds,
-        &saturations,
-        &confining,
-        axial_strain,
-        progress,
-    )?;
+    let cases: Vec<(u64, f64)> = seeds
+        .iter()
+        .flat_map(|&s| confining.iter().map(move |&p| (s, p)))
+        .collect();
+    // the rate check: the first seed's sample at the highest σ3 and the first saturation (dry
+    // when run) sheared again at half the speed. Wherever the damping number sets the loading
+    // speed it is proportional to σ3 (`platen_speeds`), so the viscous excess is the same share
+    // of the strength at every σ3, and the highest σ3 tests it in the fewest steps.
+    let rate_case = (seeds[0], confining[confining.len() - 1]);
+    let loadings = |seed: u64, sigma3: f64| {
+        let mut loadings: Vec<Loading> = saturations
+            .iter()
+            .map(|&saturation| Loading {
+                saturation,
+                slowing: 1.0,
+            })
+            .collect();
+        if (seed, sigma3) == rate_case {
+            loadings.push(Loading {
+                saturation: saturations[0],
+                slowing: 0.5,
+            });
+        }
+        loadings
+    };
+    let (sheared, study) = rayon::join(
+        || shear_all(grains, &cases, &loadings, axial_strain, progress),
+        || friction_study(grains, seeds[0], confining[0]),
+    );
+    let ((mut shears, samples), mut study) = (sheared?, study?);
+    let paper_friction = BiaxialTest::source_paper(grains, seeds[0], 0.0, confining[0])
+        .contact
+        .friction;
+    study.push((paper_friction, samples[0]));
+    study.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let slow = shears.remove(
+        shears
+            .iter()
+            .position(|s| s.slowing != 1.0)
+            .expect("the rate check's shear"),
+    );
     let envelopes = saturations
         .iter()
         .map(|&s| {
@@ -539,24 +574,10 @@ pub fn run(
             )
         });
     }
-    // the rate check: the first seed's sample at the highest σ3 and the first saturation (dry
-    // when run), prepared afresh and sheared at half the speed. Wherever the damping number
-    // sets the loading speed it is proportional to σ3 (`platen_speeds`), so the viscous
-    // excess is the same share of the strength at every σ3, and the highest σ3 tests it in
-    // the fewest steps.
     let first = shears
         .iter()
-        .filter(|s| s.seed == seeds[0] && s.saturation == saturations[0])
-        .max_by(|a, b| a.confining.total_cmp(&b.confining))
+        .find(|s| (s.seed, s.confining) == rate_case && s.saturation == saturations[0])
         .expect("a shear of the first seed and saturation");
-    let (study, slow) = rayon::join(
-        || friction_study(grains, seeds[0], confining[0]),
-        || {
-            let (seed, saturation, sigma3) = (first.seed, first.saturation, first.confining);
-            prepare_and_shear(grains, seed, saturation, sigma3, axial_strain, 0.5)
-        },
-    );
-    let (study, slow) = (study?, slow?);
     // quasi-static: halving the platen speed moves the mean σ1 beyond 1 % strain by the
     // viscous excess's half, about 2 % (DAMPING_NUMBER_LIMIT), plus the scatter between loading
     // histories: 1 % between seeds 1 and 2 at 1700 grains, hence 4 %; a 300-grain sample's
