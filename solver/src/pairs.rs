@@ -63,6 +63,7 @@ pub fn sources<const D: usize, L, E: PairEquation<D, L>>(
 ) -> Vec<E::Source> {
     (0..particles.len())
         .into_par_iter()
+        .with_min_len(PARTICLES_PER_TASK)
         .map(|k| equation.source(particles, k))
         .collect()
 }
@@ -90,6 +91,7 @@ pub fn gather<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
     let sources = sources(equation, particles);
     (0..particles.n_real())
         .into_par_iter()
+        .with_min_len(PARTICLES_PER_TASK)
         .map(|i| sum_at(equation, &sources, partners, i))
         .collect()
 }
@@ -108,11 +110,13 @@ pub fn gather_at<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
         let sources = sources(equation, particles);
         return which
             .par_iter()
+            .with_min_len(PARTICLES_PER_TASK)
             .map(|&i| sum_at(equation, &sources, partners, i))
             .collect();
     }
     which
         .par_iter()
+        .with_min_len(PARTICLES_PER_TASK)
         .map(|&i| {
             let me = equation.source(particles, i);
             let mut sum = equation.start(&me);
@@ -123,6 +127,12 @@ pub fn gather_at<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
         })
         .collect()
 }
+
+/// The fewest particles a parallel pass hands to one task: a pass over fewer runs on the
+/// calling thread alone, where waking another thread would cost more than the work it takes
+/// over (with individual time steps a step often ends for a few dozen particles). Each
+/// particle's sum is the same on any thread, so this changes no result.
+pub(crate) const PARTICLES_PER_TASK: usize = 32;
 
 /// Below one particle in SMALL_PART, a pass over some particles reads sources directly: a
 /// particle has about ten partners in 1D and more beyond, so packing every source costs more

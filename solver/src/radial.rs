@@ -452,6 +452,7 @@ impl ShellPairs {
         }
         let lists = which
             .par_iter()
+            .with_min_len(pairs::PARTICLES_PER_TASK)
             .map(|&i| {
                 let (r_i, h_i) = (p.position[i][0], p.smoothing_length[i]);
                 let mut list = Vec::new();
