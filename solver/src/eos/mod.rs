@@ -114,14 +114,15 @@ pub(crate) mod checks {
     use super::EquationOfState;
 
     /// c² against ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ by central differences of relative step 1e-6
-    /// (truncation ~1e-12, round-off ~1e-10 relative): the relative mismatch.
+    /// (truncation ~1e-12, round-off ~1e-10 relative): the relative mismatch. A derivative
+    /// that is not positive (no real sound speed) is a mismatch of at least 1.
     pub fn sound_speed_mismatch(eos: &dyn EquationOfState, rho: f64, e: f64) -> f64 {
         let (dr, de) = (rho * 1e-6, e.abs().max(1.0) * 1e-6);
         let dp_drho = (eos.pressure(rho + dr, e) - eos.pressure(rho - dr, e)) / (2.0 * dr);
         let dp_de = (eos.pressure(rho, e + de) - eos.pressure(rho, e - de)) / (2.0 * de);
         let c2 = dp_drho + eos.pressure(rho, e) / (rho * rho) * dp_de;
         let c = eos.sound_speed(rho, e);
-        (c * c - c2).abs() / c2
+        (c * c - c2).abs() / c2.abs()
     }
 }
 
@@ -140,6 +141,41 @@ mod tests {
             let eos = IdealGas::new(gamma).unwrap();
             prop_assert!(checks::sound_speed_mismatch(&eos, rho, e) <= 1e-6);
         }
+    }
+
+    proptest! {
+        /// internal_energy inverts the pressure: p(ρ, e(ρ, p)) = p to round-off.
+        #[test]
+        fn internal_energy_gives_back_the_pressure(
+            gamma in 1.01f64..3.0, rho in 1e-3f64..1e4, p in 1e-2f64..1e10
+        ) {
+            let eos = IdealGas::new(gamma).unwrap();
+            let e = eos.internal_energy(rho, p);
+            prop_assert!((eos.pressure(rho, e) / p - 1.0).abs() <= 1e-14);
+        }
+
+        /// A law without history (every law but compaction) ignores the peak density it is
+        /// given, and a gas carries no tension: its floor is p = 0.
+        #[test]
+        fn a_law_without_history_ignores_the_peak_density(
+            rho in 1e-3f64..1e4, e in 1e-2f64..1e7, peak in 1e-3f64..1e5
+        ) {
+            let eos = IdealGas::new(1.4).unwrap();
+            prop_assert!(!eos.remembers_peak_density());
+            prop_assert_eq!(eos.pressure_after(rho, e, peak), eos.pressure(rho, e));
+            prop_assert_eq!(eos.sound_speed_after(rho, e, peak), eos.sound_speed(rho, e));
+            prop_assert_eq!(eos.min_pressure(), 0.0);
+        }
+    }
+
+    /// Air's p = (γ − 1) ρ e at 1.225 kg/m³ and 101 325 Pa: e = 206 786 J/kg for γ = 1.4,
+    /// which the gas keeps as its γ.
+    #[test]
+    fn air_at_sea_level() {
+        let air = IdealGas::new(1.4).unwrap();
+        assert_eq!(air.gamma(), 1.4);
+        let e = air.internal_energy(1.225, 101_325.0);
+        assert!((e / 206_785.714_285_714_3 - 1.0).abs() < 1e-12, "{e}");
     }
 
     #[test]
