@@ -110,10 +110,6 @@ impl EquationOfState for Jwl {
             .max(0.0)
             .sqrt()
     }
-
-    fn min_pressure(&self) -> f64 {
-        0.0
-    }
 }
 
 #[cfg(test)]

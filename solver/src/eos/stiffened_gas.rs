@@ -74,6 +74,16 @@ mod tests {
         }
     }
 
+    /// The liquid's floor is its cutoff: a state stretched past it reads p_min, and p_min is
+    /// the floor the health check holds the liquid to (not a gas's p = 0).
+    #[test]
+    fn tension_stops_at_the_cutoff() {
+        let eos = StiffenedGas::new(4.4, 6e8, -1e6).unwrap();
+        assert_eq!(eos.min_pressure(), -1e6);
+        let e = eos.internal_energy(1000.0, -5e8);
+        assert_eq!(eos.pressure(1000.0, e), -1e6);
+    }
+
     #[test]
     fn bad_parameters_are_named() {
         assert!(StiffenedGas::new(1.0, 6e8, 0.0)
