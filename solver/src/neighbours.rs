@@ -8,7 +8,9 @@
 //! particle with the larger h (the lower index on a tie), whose own reach κ·h covers the pair.
 //! Owners search a box of cells sized to their own reach, so a few particles with a large h do
 //! not make every particle scan a large box. The owned lists are then transposed, and each
-//! particle's list is what it owns followed by the owners that list it.
+//! particle's list is what it owns and the owners that list it, in index order: a list holds
+//! the same partners in the same order however they were found (which h, which cells, which
+//! owner), so sums over it do not depend on the search.
 //!
 //! Cells have the side κ·(median h); particles are counting-sorted by cell (stable, so the order
 //! is deterministic).
@@ -36,33 +38,29 @@ impl PairReach {
     }
 }
 
-/// Neighbour lists in two parts per particle: the pairs it owns, stored as the blocks the
-/// parallel search produced, and the owners that list it, in index order.
+/// Neighbour lists, each in ascending index order.
 #[derive(Clone, Debug, Default)]
 pub struct NeighbourList {
-    owned: OwnedLists,
-    incoming_offsets: Vec<usize>,
-    incoming: Vec<u32>,
+    /// Particle i's partners are `partners[offsets[i]..offsets[i + 1]]`.
+    offsets: Vec<usize>,
+    partners: Vec<u32>,
 }
 
 impl NeighbourList {
-    /// The two parts of particle i's list (their union is the list; they do not overlap).
+    /// Particle i's partners, in ascending index order.
     #[inline]
-    pub fn parts(&self, i: usize) -> [&[u32]; 2] {
-        [
-            self.owned.of(i),
-            &self.incoming[self.incoming_offsets[i]..self.incoming_offsets[i + 1]],
-        ]
+    pub fn partners(&self, i: usize) -> &[u32] {
+        &self.partners[self.offsets[i]..self.offsets[i + 1]]
     }
 
     /// Particle i's neighbours.
     pub fn of(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
-        self.parts(i).into_iter().flatten().map(|&j| j as usize)
+        self.partners(i).iter().map(|&j| j as usize)
     }
 
     /// Number of particles that have lists.
     pub fn len(&self) -> usize {
-        self.incoming_offsets.len().saturating_sub(1)
+        self.offsets.len().saturating_sub(1)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -71,7 +69,7 @@ impl NeighbourList {
 
     /// Total number of (directed) pairs.
     pub fn pair_count(&self) -> usize {
-        2 * self.incoming.len()
+        self.partners.len()
     }
 }
 
@@ -350,33 +348,52 @@ fn owned_lists<const D: usize>(
     OwnedLists { blocks, location }
 }
 
-/// Adds to the owned lists their transpose: for each queried particle, the owners that list
-/// it, in index order (a counting pass and a filling pass over the owners in order).
+/// Each queried particle's list: the pairs it owns and the owners that list it (found by
+/// transposing the owned lists), sorted by index.
 fn symmetric_lists(owned: OwnedLists, n_query: usize) -> NeighbourList {
     let n = owned.location.len();
-    let mut incoming_offsets = vec![0usize; n_query + 1];
+    let mut offsets = vec![0usize; n_query + 1];
     for i in 0..n {
+        if i < n_query {
+            offsets[i + 1] += owned.of(i).len();
+        }
         for &j in owned.of(i).iter().filter(|&&j| (j as usize) < n_query) {
-            incoming_offsets[j as usize + 1] += 1;
+            offsets[j as usize + 1] += 1;
         }
     }
     for i in 0..n_query {
-        incoming_offsets[i + 1] += incoming_offsets[i];
+        offsets[i + 1] += offsets[i];
     }
-    let mut cursor = incoming_offsets[..n_query].to_vec();
-    let mut incoming = vec![0u32; incoming_offsets[n_query]];
+    let mut partners = vec![0u32; offsets[n_query]];
+    // what each list owns first, then the owners that list it
+    let mut cursor = offsets[..n_query].to_vec();
+    for (i, at) in cursor.iter_mut().enumerate() {
+        let mine = owned.of(i);
+        partners[*at..*at + mine.len()].copy_from_slice(mine);
+        *at += mine.len();
+    }
     for i in 0..n {
         for &j in owned.of(i).iter().filter(|&&j| (j as usize) < n_query) {
-            incoming[cursor[j as usize]] = i as u32;
+            partners[cursor[j as usize]] = i as u32;
             cursor[j as usize] += 1;
         }
     }
-    NeighbourList {
-        owned,
-        incoming_offsets,
-        incoming,
+    let mut lists: Vec<&mut [u32]> = Vec::with_capacity(n_query);
+    let mut rest = partners.as_mut_slice();
+    for i in 0..n_query {
+        let (list, tail) = rest.split_at_mut(offsets[i + 1] - offsets[i]);
+        lists.push(list);
+        rest = tail;
     }
+    lists
+        .into_par_iter()
+        .with_min_len(LISTS_PER_TASK)
+        .for_each(|list| list.sort_unstable());
+    NeighbourList { offsets, partners }
 }
+
+/// Lists sorted per parallel task.
+const LISTS_PER_TASK: usize = 256;
 
 /// The particles around one cell as single-precision coordinates relative to the cell centre,
 /// laid out by axis, with their indices. This f32 pass is a loose, vectorisable filter (its
@@ -511,9 +528,7 @@ mod tests {
             let lists = find_neighbours(&x, h, 2.0, reach, n_query);
             let expected = brute_force(&x, h, 2.0, reach);
             for (i, want) in expected.iter().enumerate().take(n_query) {
-                let mut got: Vec<u32> = lists.of(i).map(|j| j as u32).collect();
-                got.sort_unstable();
-                assert_eq!(&got, want, "particle {i}, {reach:?}");
+                assert_eq!(lists.partners(i), want.as_slice(), "particle {i}, {reach:?}");
             }
         }
     }

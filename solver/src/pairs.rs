@@ -29,10 +29,8 @@ impl Partners for NeighbourList {
 
     #[inline]
     fn visit(&self, i: usize, mut visit: impl FnMut(usize, &())) {
-        for part in self.parts(i) {
-            for &j in part {
-                visit(j as usize, &());
-            }
+        for &j in self.partners(i) {
+            visit(j as usize, &());
         }
     }
 }

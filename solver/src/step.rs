@@ -785,10 +785,8 @@ impl<const D: usize> Simulation<D> {
     fn shortest_neighbour_step(&self, blocks: &BlockSteps, i: usize) -> u64 {
         let n = self.particles.n_real();
         let mut shortest = u64::MAX;
-        for part in self.neighbours.parts(i) {
-            for &j in part.iter().filter(|&&j| (j as usize) < n) {
-                shortest = shortest.min(blocks.ticks_of(j as usize));
-            }
+        for &j in self.neighbours.partners(i).iter().filter(|&&j| (j as usize) < n) {
+            shortest = shortest.min(blocks.ticks_of(j as usize));
         }
         shortest
     }
