@@ -144,7 +144,11 @@ impl<const D: usize> PairEquation<D> for RadiusGradient<'_, D> {
             return;
         }
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        let weight = other.area * self.kernel.derivative(r, h) * dx[0] / r;
+        let dw = self.kernel.derivative(r, h);
+        if dw == 0.0 {
+            return; // beyond the kernel's reach
+        }
+        let weight = other.area * dw * dx[0] / r;
         let (r_i, r_j) = (me.position[0], other.position[0]);
         *even -= weight * (r_i - r_j.abs());
         *odd -= weight * (r_i - r_j);

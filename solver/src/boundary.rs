@@ -96,26 +96,27 @@ impl<const D: usize> Domain<D> {
             let mut mirror = Vector::<D>::repeat(1.0);
             mirror[a] = -1.0;
             for i in 0..particles.len() {
-                let x = particles.position[i];
-                let mut image = |target: f64, flip: Vector<D>, is_wall: bool| {
-                    let mut y = x;
-                    y[a] = target;
-                    particles.push_image(i, y, flip, is_wall);
+                let x = particles.position[i][a];
+                // the image along axis a at flip·x + shift
+                let mut image = |flip: Vector<D>, shift: f64, is_wall: bool| {
+                    let mut along = Vector::<D>::zeros();
+                    along[a] = shift;
+                    particles.push_image(i, flip, along, is_wall);
                 };
                 if periodic {
-                    if x[a] - lo < reach {
-                        image(x[a] + (hi - lo), Vector::repeat(1.0), false);
+                    if x - lo < reach {
+                        image(Vector::repeat(1.0), hi - lo, false);
                     }
-                    if hi - x[a] < reach {
-                        image(x[a] - (hi - lo), Vector::repeat(1.0), false);
+                    if hi - x < reach {
+                        image(Vector::repeat(1.0), -(hi - lo), false);
                     }
                     continue;
                 }
-                if self.lower[a] == Boundary::Wall && x[a] - lo < reach {
-                    image(2.0 * lo - x[a], mirror, true);
+                if self.lower[a] == Boundary::Wall && x - lo < reach {
+                    image(mirror, 2.0 * lo, true);
                 }
-                if self.upper[a] == Boundary::Wall && hi - x[a] < reach {
-                    image(2.0 * hi - x[a], mirror, true);
+                if self.upper[a] == Boundary::Wall && hi - x < reach {
+                    image(mirror, 2.0 * hi, true);
                 }
             }
         }

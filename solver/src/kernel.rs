@@ -95,6 +95,13 @@ impl<const D: usize> Kernel<D> {
         self.sigma * inv_h.powi(D as i32) * shape_value(self.shape, D, q)
     }
 
+    /// Whether a partner at distance r lies within the kernel's support κh (the same test as
+    /// [`Self::value`] and [`Self::derivative`] make).
+    #[inline]
+    pub fn reaches(&self, r: f64, h: f64) -> bool {
+        r * (1.0 / h) < self.support
+    }
+
     /// dW/dr (h held fixed).
     #[inline]
     pub fn derivative(&self, r: f64, h: f64) -> f64 {

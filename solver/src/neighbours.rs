@@ -528,7 +528,11 @@ mod tests {
             let lists = find_neighbours(&x, h, 2.0, reach, n_query);
             let expected = brute_force(&x, h, 2.0, reach);
             for (i, want) in expected.iter().enumerate().take(n_query) {
-                assert_eq!(lists.partners(i), want.as_slice(), "particle {i}, {reach:?}");
+                assert_eq!(
+                    lists.partners(i),
+                    want.as_slice(),
+                    "particle {i}, {reach:?}"
+                );
             }
         }
     }

@@ -6,12 +6,16 @@
 
 use crate::{Tensor, Vector};
 
-/// How an image particle derives from its real source: which velocity components flip.
+/// How an image particle derives from its real source: where it stands and which velocity
+/// components flip.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Image<const D: usize> {
     pub source: u32,
-    /// +1 or −1 per axis (−1 where the image is a mirror across a wall normal to that axis).
+    /// +1 or −1 per axis (−1 where the image is a mirror across a wall normal to that axis):
+    /// how the image's position and velocity components follow its source's.
     pub velocity_sign: Vector<D>,
+    /// The image stands at `velocity_sign ⊙ x_source + shift`.
+    pub shift: Vector<D>,
     /// True if the image stands for a wall (its forces are the wall's reaction), false for a
     /// periodic copy (its forces are internal).
     pub is_wall: bool,
@@ -331,16 +335,20 @@ impl<const D: usize> Particles<D> {
         self.images.clear();
     }
 
-    /// Appends an image of particle `of` (real or image) at `position`.
-    pub fn push_image(&mut self, of: usize, position: Vector<D>, flip: Vector<D>, is_wall: bool) {
-        let (source, sign, wall) = match self.image(of) {
+    /// Appends an image of particle `of` (real or image) at `flip ⊙ x_of + shift`: a mirror
+    /// across a wall flips the axis normal to it and shifts by twice the wall's coordinate, a
+    /// periodic copy shifts by the period.
+    pub fn push_image(&mut self, of: usize, flip: Vector<D>, shift: Vector<D>, is_wall: bool) {
+        let (source, sign, total_shift, wall) = match self.image(of) {
             Some(im) => (
                 im.source,
                 im.velocity_sign.component_mul(&flip),
+                im.shift.component_mul(&flip) + shift,
                 im.is_wall || is_wall,
             ),
-            None => (of as u32, flip, is_wall),
+            None => (of as u32, flip, shift, is_wall),
         };
+        let position = self.position[of].component_mul(&flip) + shift;
         self.position.push(position);
         self.visit_imaged(&mut AppendImage {
             source: source as usize,
@@ -349,6 +357,7 @@ impl<const D: usize> Particles<D> {
         self.images.push(Image {
             source,
             velocity_sign: sign,
+            shift: total_shift,
             is_wall: wall,
         });
     }
@@ -361,6 +370,17 @@ impl<const D: usize> Particles<D> {
             images: &images,
         });
         self.images = images;
+    }
+
+    /// Moves every image to where its source now puts it, and copies the source's state: the
+    /// images as [`crate::boundary::Domain::make_images`] would make them afresh, kept in their
+    /// places among the indices (which kept neighbour lists refer to).
+    pub fn refresh_images(&mut self) {
+        for (k, im) in self.images.iter().enumerate() {
+            self.position[self.n_real + k] =
+                self.position[im.source as usize].component_mul(&im.velocity_sign) + im.shift;
+        }
+        self.refresh_image_state();
     }
 
     /// Reorders the real particles so that new index k holds old index `order[k]`, moving every
@@ -455,9 +475,14 @@ mod tests {
         p.velocity[1] = Vector::<2>::new(5.0, 7.0);
         p.deviatoric_stress[1] = Tensor::<2>::new(1.0, 2.0, 2.0, -1.0);
         let flip = Vector::<2>::new(-1.0, 1.0);
-        p.push_image(1, Vector::<2>::new(-1.0, 0.0), flip, true);
+        // the mirror x = −0.5
+        p.push_image(1, flip, Vector::<2>::new(-1.0, 0.0), true);
         let image = p.n_real();
         assert_eq!(p.len(), 5);
+        assert_eq!(
+            p.position[image],
+            Vector::<2>::new(-1.0 - p.position[1][0], p.position[1][1])
+        );
         assert_eq!(p.velocity[image], Vector::<2>::new(-5.0, 7.0));
         assert_eq!(
             p.deviatoric_stress[image],
@@ -467,9 +492,11 @@ mod tests {
         assert_eq!(p.real_index(image), 1);
         p.density[1] = 9.0;
         p.deviatoric_stress[1] = Tensor::<2>::new(0.0, 3.0, 3.0, 0.0);
-        p.refresh_image_state();
+        p.position[1] = Vector::<2>::new(0.25, 2.0);
+        p.refresh_images();
         assert_eq!(p.density[image], 9.0);
         assert_eq!(p.deviatoric_stress[image][(0, 1)], -3.0);
+        assert_eq!(p.position[image], Vector::<2>::new(-1.25, 2.0));
         p.clear_images();
         assert_eq!(p.len(), 4);
         assert_eq!(p.density.len(), 4);

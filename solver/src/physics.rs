@@ -398,8 +398,12 @@ impl<const D: usize> PairEquation<D> for KernelGradientSum<'_, D> {
     #[inline]
     fn pair(&self, g: &mut Vector<D>, me: &VolumeSource<D>, other: &VolumeSource<D>, _: &()) {
         let dx = me.position - other.position;
+        let r = dx.norm();
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        *g += self.kernel.gradient(&dx, dx.norm(), h) * other.volume;
+        if !self.kernel.reaches(r, h) {
+            return;
+        }
+        *g += self.kernel.gradient(&dx, r, h) * other.volume;
     }
 
     fn finish(&self, _: &VolumeSource<D>, g: Vector<D>) -> Vector<D> {
@@ -412,7 +416,8 @@ impl<const D: usize> PairEquation<D> for KernelGradientSum<'_, D> {
 pub enum SmoothingSolution {
     /// h, ρ = Σ_j m_j W(r_ij, h) and Ω at the root.
     Converged { h: f64, density: f64, omega: f64 },
-    /// The root lies beyond the neighbour search's reach; search again with at least this h.
+    /// The root lies beyond the reach the neighbour lists cover; solve again with lists that
+    /// reach at least this h.
     BeyondReach { h: f64 },
     /// The iteration did not settle (a degenerate neighbourhood).
     Failed { h: f64 },
@@ -427,23 +432,23 @@ const MAX_SMOOTHING_ITERATIONS: usize = 60;
 /// included, each particle with its own h), by Newton–Raphson on
 /// f(h) = Σ_j m_j W(r_ij, h) − m (η/h)^D, kept inside a bracket [lo, hi] (f is negative below
 /// the root and positive above it) with bisection where a Newton step would leave it. Stops when a step changes h
-/// by less than `tolerance`·h. Neighbours must include every particle within κ·h_i of i for
-/// the h_i each particle holds on entry (its reach); a root beyond it is reported, not guessed.
+/// by less than `tolerance`·h, from `initial_guess`. Neighbours must include every particle
+/// within κ·`reach[i]` of i; a root beyond that reach is reported, not guessed.
 /// Ω_i = 1 + h_i/(D ρ_i) Σ_j m_j ∂W_ij/∂h_i.
 pub fn solve_smoothing_lengths<const D: usize>(
     particles: &Particles<D>,
     neighbours: &NeighbourList,
     kernel: &Kernel<D>,
-    eta: f64,
-    tolerance: f64,
+    (eta, tolerance): (f64, f64),
     initial_guess: &[f64],
+    reach: &[f64],
 ) -> Vec<SmoothingSolution> {
     let p = particles;
     let sources = pairs::sources(&DensityAtH { kernel, h: 0.0 }, p);
     (0..p.n_real())
         .into_par_iter()
         .map(|i| {
-            let reach = p.smoothing_length[i];
+            let reach = reach[i];
             let guess = initial_guess[i].min(reach);
             solve_one(
                 i,
@@ -681,6 +686,11 @@ impl<const D: usize> PairEquation<D> for EulerRates<'_, D> {
             me.smoothing_length,
             other.smoothing_length,
         );
+        if dw_i == 0.0 && dw_j == 0.0 {
+            // beyond the kernel's reach (lists kept across steps list such partners): every
+            // term, the signal speed included, is the pair's only where the kernel reaches
+            return;
+        }
         let dw_mean = 0.5 * (dw_i + dw_j);
         let v_ij = me.velocity - other.velocity;
         let v_dot_x = v_ij.dot(&dx);
@@ -947,7 +957,11 @@ impl<const D: usize> PairEquation<D> for VelocityGradient<'_, D> {
         } else {
             1.0 / me.ring_density
         };
-        let scale = other.mass * weight * self.kernel.derivative(r, h) / r;
+        let dw = self.kernel.derivative(r, h);
+        if dw == 0.0 {
+            return; // beyond the kernel's reach
+        }
+        let scale = other.mass * weight * dw / r;
         *gradient += (other.velocity - me.velocity) * (dx * scale).transpose();
     }
 
@@ -1078,6 +1092,9 @@ impl<const D: usize> PairEquation<D> for StressForces<'_, D> {
             me.smoothing_length,
             other.smoothing_length,
         );
+        if dw_i == 0.0 && dw_j == 0.0 {
+            return; // beyond the kernel's reach
+        }
         let mut force = (me.stress_factor * (partner(other) * dw_i)
             + other.stress_factor * (partner(me) * dw_j))
             * (dx / r)

@@ -57,6 +57,14 @@ pub struct SimulationConfig {
     pub min_time_step: f64,
     /// One step for all particles, or each its own.
     pub time_steps: TimeSteps,
+    /// How far the neighbour lists reach beyond each particle's h, relative to it. Lists (and
+    /// images) are kept across steps while they hold every pair the kernel reaches, and
+    /// searched again when a particle's h plus twice the largest displacement since the search
+    /// outgrows the widened h it was searched with. Kept lists list the same partners in the
+    /// same order as a fresh search, plus some beyond the kernel's reach that add nothing, so
+    /// the skin changes how often lists are searched, not the results. 0 searches whenever
+    /// anything has moved.
+    pub neighbour_skin: f64,
 }
 
 /// How the particles share time.
@@ -89,6 +97,7 @@ impl Default for SimulationConfig {
             cfl: 0.3,
             min_time_step: 1e-15,
             time_steps: TimeSteps::Global,
+            neighbour_skin: 0.2,
         }
     }
 }
@@ -108,6 +117,13 @@ impl SimulationConfig {
                 "min_time_step",
                 self.min_time_step,
                 "≥ 0",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.neighbour_skin) {
+            return Err(SolverError::invalid(
+                "neighbour_skin",
+                self.neighbour_skin,
+                "0 ≤ skin ≤ 1 (relative to h)",
             ));
         }
         self.formulation.validate()?;
@@ -214,8 +230,10 @@ pub struct Simulation<const D: usize> {
     /// external accelerations, since the start (J).
     transmitted_energy: f64,
     times: PhaseTimes,
-    /// Neighbour searches repeated because a grad-h root lay beyond the first search's reach.
+    /// Grad-h solves repeated because a root lay beyond the reach the lists were checked for.
     repeated_searches: u64,
+    /// Neighbour searches so far (lists are kept across steps while they hold).
+    neighbour_searches: u64,
     /// The programmed burn's speed and ramp (its lighting times live in the particles).
     burn: Option<ProgrammedBurn>,
     /// Total-Lagrangian solids: the bonds of the reference configuration.
@@ -228,35 +246,34 @@ pub struct Simulation<const D: usize> {
     list_origin: ListOrigin<D>,
 }
 
-/// How far the neighbour lists kept across individual time steps reach beyond each particle's
-/// h, relative to it.
-const LIST_SKIN: f64 = 0.2;
-
-/// Where the particles were, and their h, when kept neighbour lists were searched with every
-/// h widened by [`LIST_SKIN`].
+/// Where the real particles were when the kept neighbour lists were searched, and the h each
+/// was searched with (its own, widened by the skin).
 #[derive(Clone, Debug, Default)]
 struct ListOrigin<const D: usize> {
     position: Vec<Vector<D>>,
-    smoothing_length: Vec<f64>,
+    searched_h: Vec<f64>,
 }
 
 impl<const D: usize> ListOrigin<D> {
-    /// Whether the lists still hold every pair the kernel (support κ) reaches: a pair within
-    /// κ h̄ now was within κ h̄ + 2 d of each other at the search (d the farthest any particle
-    /// has moved since), which the widened search covered if κ h_i + 2 d ≤ κ (1 + skin) h_i⁰
-    /// for every particle.
-    fn holds(&self, p: &Particles<D>, support: f64) -> bool {
-        let n = p.n_real();
-        if self.position.len() != n {
+    /// Whether the lists still hold every pair the kernel (support κ) reaches when each real
+    /// particle i has smoothing length `h[i]`: a pair within κ h̄ now was within κ h̄ + 2 d of
+    /// each other at the search (d the farthest any particle has moved since; an image moves
+    /// with its source), which the search covered if κ h_i + 2 d ≤ κ h_i⁰ for every particle,
+    /// h_i⁰ the h it was searched with. The same bound covers every image a fresh search would
+    /// make: a source within κ h_max of a side now was within κ h_max + d at the search.
+    fn holds(&self, position: &[Vector<D>], h: &[f64], support: f64) -> bool {
+        if self.position.len() != h.len() {
             return false;
         }
-        let moved = (0..n)
-            .map(|i| (p.position[i] - self.position[i]).norm())
+        let moved = self
+            .position
+            .iter()
+            .zip(position)
+            .map(|(x0, x)| (x - x0).norm())
             .fold(0.0, f64::max);
-        (0..n).all(|i| {
-            support * p.smoothing_length[i] + 2.0 * moved
-                <= support * (1.0 + LIST_SKIN) * self.smoothing_length[i]
-        })
+        h.iter()
+            .zip(&self.searched_h)
+            .all(|(h, h0)| support * h + 2.0 * moved <= support * h0)
     }
 }
 
@@ -487,6 +504,7 @@ impl<const D: usize> Simulation<D> {
             prescribed: state.prescribed,
             blocks: None,
             list_origin: ListOrigin::default(),
+            neighbour_searches: 0,
         };
         if let Some(stress) = state.deviatoric_stress {
             if !sim.particles.deviatoric_stress.is_empty() {
@@ -567,9 +585,18 @@ impl<const D: usize> Simulation<D> {
     pub fn phase_times(&self) -> PhaseTimes {
         self.times
     }
-    /// Neighbour searches repeated so far because a grad-h root lay beyond the search's reach.
+
+    /// Grad-h solves repeated so far because a root lay beyond the reach its lists were
+    /// checked for (each with lists that reach further, searched again where the kept ones
+    /// do not).
     pub fn repeated_searches(&self) -> u64 {
         self.repeated_searches
+    }
+
+    /// Neighbour searches so far: the lists are kept across steps while they hold every pair
+    /// the kernel reaches (see [`SimulationConfig::neighbour_skin`]).
+    pub fn neighbour_searches(&self) -> u64 {
+        self.neighbour_searches
     }
     /// The heat the artificial terms have made so far (planar and axisymmetric scenes; zero in
     /// radial geometries, whose loops do not sum it).
@@ -688,21 +715,14 @@ impl<const D: usize> Simulation<D> {
         self.drift_on_half_steps(dt);
         self.times.integration += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let support = self.kernel.shape().support();
-        if !self.list_origin.holds(&self.particles, support) {
-            self.search_kept_lists();
-        }
+        // the limiter reads the partners the kernel reaches at the drifted positions
+        self.keep_or_search_lists();
         let active = self.ending_and_woken(&mut blocks);
         // every particle's state at this time: a gauge may read any of them
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
-        loop {
-            self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
-            self.follow_density_with_h(&all);
-            if self.list_origin.holds(&self.particles, support) {
-                break;
-            }
-            self.search_kept_lists();
-        }
+        self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
+        self.follow_density_with_h(&all);
+        self.keep_or_search_lists();
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
         self.evaluate_density(&all);
@@ -724,28 +744,6 @@ impl<const D: usize> Simulation<D> {
         let health = started.and_then(|()| self.check_health(&all));
         self.times.integration += start.elapsed().as_secs_f64();
         health
-    }
-
-    /// Neighbour lists of the real particles with every h widened by [`LIST_SKIN`], and where
-    /// the particles and their h were when they were searched.
-    fn search_kept_lists(&mut self) {
-        let p = &self.particles;
-        let widened: Vec<f64> = p
-            .smoothing_length
-            .iter()
-            .map(|h| h * (1.0 + LIST_SKIN))
-            .collect();
-        self.neighbours = find_neighbours(
-            &p.position,
-            &widened,
-            self.kernel.shape().support(),
-            self.config.formulation.pair_reach(),
-            p.n_real(),
-        );
-        self.list_origin = ListOrigin {
-            position: p.position.clone(),
-            smoothing_length: p.smoothing_length.clone(),
-        };
     }
 
     /// A new block of individual steps, every particle at the end of its step: each starts
@@ -781,12 +779,21 @@ impl<const D: usize> Simulation<D> {
         Ok(blocks)
     }
 
-    /// The shortest step (ticks) among real particle i's neighbours (u64::MAX without any).
+    /// The shortest step (ticks) among real particle i's neighbours within the kernel's reach
+    /// (u64::MAX without any).
     fn shortest_neighbour_step(&self, blocks: &BlockSteps, i: usize) -> u64 {
-        let n = self.particles.n_real();
+        let p = &self.particles;
+        let (n, x, h) = (p.n_real(), &p.position, &p.smoothing_length);
+        let reaches = |j: usize| {
+            let h_pair = 0.5 * (h[i] + h[j]);
+            match &self.radial_kernel {
+                Some(kernel) => kernel.reaches(x[i][0], x[j][0], h_pair),
+                None => self.kernel.reaches((x[i] - x[j]).norm(), h_pair),
+            }
+        };
         let mut shortest = u64::MAX;
-        for &j in self.neighbours.partners(i).iter().filter(|&&j| (j as usize) < n) {
-            shortest = shortest.min(blocks.ticks_of(j as usize));
+        for j in self.neighbours.of(i).filter(|&j| j < n && reaches(j)) {
+            shortest = shortest.min(blocks.ticks_of(j));
         }
         shortest
     }
@@ -891,12 +898,13 @@ impl<const D: usize> Simulation<D> {
     /// Sorts particles along a space-filling curve so that neighbours sit close in memory; every
     /// REORDER_INTERVAL steps, since particles move less than a smoothing length in that time.
     fn reorder_for_locality(&mut self) {
-        let p = &mut self.particles;
-        p.clear_images();
         // total-Lagrangian bonds hold particle indices (and the lattice's order is local)
         if !self.steps.is_multiple_of(REORDER_INTERVAL) || self.reference.is_some() {
             return;
         }
+        let p = &mut self.particles;
+        p.clear_images();
+        self.list_origin = ListOrigin::default();
         let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
         let grid = CellGrid::build(&p.position, self.kernel.support_radius(h_max));
         let order = grid.locality_order(&p.position);
@@ -1173,7 +1181,7 @@ impl<const D: usize> Simulation<D> {
             return self.solve_grad_h(eta, tolerance);
         }
         self.follow_density_with_h(all);
-        self.search_neighbours();
+        self.keep_or_search_lists();
         Ok(())
     }
 
@@ -1340,38 +1348,71 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// Images for the current h, then the neighbour lists.
-    fn search_neighbours(&mut self) {
-        let p = &mut self.particles;
-        p.clear_images();
-        let h_max = p.smoothing_length.iter().cloned().fold(0.0, f64::max);
-        self.domain
-            .make_images(p, self.kernel.support_radius(h_max));
-        self.neighbours = find_neighbours(
-            &p.position,
-            &p.smoothing_length,
-            self.kernel.shape().support(),
-            self.config.formulation.pair_reach(),
-            p.n_real(),
-        );
+    /// Keeps the neighbour lists and images, moved to the current state, while they hold every
+    /// pair the kernel reaches at the real particles' current h; otherwise searches again.
+    fn keep_or_search_lists(&mut self) {
+        let n = self.particles.n_real();
+        let h = self.particles.smoothing_length[..n].to_vec();
+        self.keep_or_search_lists_for(&h);
     }
 
-    /// Grad-h: searches with each particle's predicted h widened by GRAD_H_SKIN, solves h and
-    /// ρ together, and searches again (wider where needed) until every root lies within reach.
+    /// [`Self::keep_or_search_lists`] for the real particles' smoothing lengths `h`.
+    fn keep_or_search_lists_for(&mut self, h: &[f64]) {
+        let support = self.kernel.shape().support();
+        let p = &mut self.particles;
+        if self
+            .list_origin
+            .holds(&p.position[..p.n_real()], h, support)
+        {
+            p.refresh_images();
+        } else {
+            self.search_lists(h);
+        }
+    }
+
+    /// Images and neighbour lists for the real particles' smoothing lengths `h`, each widened
+    /// by the skin, and where the particles were.
+    fn search_lists(&mut self, h: &[f64]) {
+        let p = &mut self.particles;
+        let n = p.n_real();
+        let widened: Vec<f64> = h
+            .iter()
+            .map(|h| h * (1.0 + self.config.neighbour_skin))
+            .collect();
+        let h_max = widened.iter().cloned().fold(0.0, f64::max);
+        self.domain
+            .make_images(p, self.kernel.support_radius(h_max));
+        let searched: Vec<f64> = (0..p.len()).map(|k| widened[p.real_index(k)]).collect();
+        self.neighbours = find_neighbours(
+            &p.position,
+            &searched,
+            self.kernel.shape().support(),
+            self.config.formulation.pair_reach(),
+            n,
+        );
+        self.list_origin = ListOrigin {
+            position: p.position[..n].to_vec(),
+            searched_h: widened,
+        };
+        self.neighbour_searches += 1;
+    }
+
+    /// Grad-h: solves h and ρ together, each h within a reach GRAD_H_SKIN beyond its
+    /// predicted h, with lists that hold every pair at those reaches; a root beyond its reach
+    /// widens the reach and solves again.
     fn solve_grad_h(&mut self, eta: f64, tolerance: f64) -> Result<(), SolverError> {
         let n = self.particles.n_real();
         let guess = self.particles.smoothing_length[..n].to_vec();
         let mut reach: Vec<f64> = guess.iter().map(|h| h * (1.0 + GRAD_H_SKIN)).collect();
         let solutions = loop {
-            self.particles.smoothing_length[..n].copy_from_slice(&reach);
-            self.search_neighbours();
+            self.keep_or_search_lists_for(&reach);
             let solutions = physics::solve_smoothing_lengths(
                 &self.particles,
                 &self.neighbours,
                 &self.kernel,
-                eta,
-                tolerance,
+                (eta, tolerance),
                 &guess,
+                &reach,
             );
             let mut short = false;
             for (i, solution) in solutions.iter().enumerate() {

@@ -113,6 +113,85 @@ fn periodic_box_conserves_momentum_to_round_off_in_2d_and_3d() {
     assert!(residual <= bound, "2D grad-h: {residual:e} > {bound:e}");
 }
 
+/// Runs `build` 40 steps with neighbour lists kept across steps (the default skin 0.2 h, and
+/// the widest, h) and with a search at every step (skin 0), and checks that the runs end in the
+/// same state, bit for bit, and that keeping the lists searched at most half as often.
+fn kept_lists_match_fresh_searches<const D: usize>(
+    case: &str,
+    config: SimulationConfig,
+    build: impl Fn(SimulationConfig) -> Simulation<D>,
+) {
+    for skin in [0.2, 1.0] {
+        kept_lists_with_skin_match_fresh_searches(case, skin, config, &build);
+    }
+}
+
+fn kept_lists_with_skin_match_fresh_searches<const D: usize>(
+    case: &str,
+    skin: f64,
+    config: SimulationConfig,
+    build: impl Fn(SimulationConfig) -> Simulation<D>,
+) {
+    let case = format!("{case}, skin {skin}");
+    let run = |neighbour_skin: f64| {
+        let mut sim = build(SimulationConfig {
+            neighbour_skin,
+            ..config
+        });
+        for _ in 0..40 {
+            let dt = sim.stable_time_step().unwrap();
+            sim.step(dt).unwrap();
+        }
+        sim
+    };
+    let (kept, fresh) = (run(skin), run(0.0));
+    let (a, b) = (kept.particles(), fresh.particles());
+    let n = a.n_real();
+    assert_eq!(a.position[..n], b.position[..n], "{case}: positions");
+    assert_eq!(a.velocity[..n], b.velocity[..n], "{case}: velocities");
+    assert_eq!(a.density[..n], b.density[..n], "{case}: densities");
+    assert_eq!(
+        a.internal_energy[..n],
+        b.internal_energy[..n],
+        "{case}: energies"
+    );
+    assert_eq!(
+        a.smoothing_length[..n],
+        b.smoothing_length[..n],
+        "{case}: h"
+    );
+    let (searches, fresh_searches) = (kept.neighbour_searches(), fresh.neighbour_searches());
+    assert!(
+        2 * searches <= fresh_searches,
+        "{case}: {searches} searches with kept lists, {fresh_searches} without"
+    );
+}
+
+/// Kept neighbour lists list every pair a fresh search would, in the same (index) order, plus
+/// partners beyond the kernel's reach, which add nothing; their images are the fresh search's
+/// plus some beyond reach, moved with their sources. So keeping them changes no result: walls
+/// (the corner images in 3D) and periodic sides, h following the density and solved with it.
+#[test]
+fn kept_neighbour_lists_change_no_result() {
+    let follow = SimulationConfig::default();
+    kept_lists_match_fresh_searches::<2>("2D walls", follow, |config| {
+        gas_box(24, Boundary::Wall, config)
+    });
+    kept_lists_match_fresh_searches::<2>(
+        "2D periodic, grad-h",
+        grad_h(GRAD_H_TOLERANCE),
+        |config| gas_box(24, Boundary::Periodic, config),
+    );
+    kept_lists_match_fresh_searches::<3>("3D walls", follow, |config| {
+        gas_box(8, Boundary::Wall, config)
+    });
+    kept_lists_match_fresh_searches::<3>(
+        "3D periodic, grad-h",
+        grad_h(GRAD_H_TOLERANCE),
+        |config| gas_box(8, Boundary::Periodic, config),
+    );
+}
+
 #[test]
 fn periodic_box_gets_no_wall_impulse() {
     let mut sim = gas_box::<2>(16, Boundary::Periodic, SimulationConfig::default());

@@ -219,10 +219,11 @@ fn shells(
     rho: impl Fn(f64) -> f64,
     pressure: impl Fn(f64) -> f64,
 ) -> Simulation<1> {
-    stepped_shells(geometry, n, dr, density, rho, pressure, TimeSteps::Global)
+    let config = SimulationConfig::default();
+    stepped_shells(geometry, n, dr, density, rho, pressure, config)
 }
 
-/// As [`shells`], stepped as `time_steps` says.
+/// As [`shells`], stepped as `config` says (its formulation aside).
 fn stepped_shells(
     geometry: Geometry,
     n: usize,
@@ -230,7 +231,7 @@ fn stepped_shells(
     density: ShellDensity,
     rho: impl Fn(f64) -> f64,
     pressure: impl Fn(f64) -> f64,
-    time_steps: TimeSteps,
+    config: SimulationConfig,
 ) -> Simulation<1> {
     let gas = IdealGas::new(1.4).unwrap();
     let init: Vec<ParticleInit<1>> = (0..n)
@@ -250,8 +251,7 @@ fn stepped_shells(
         .collect();
     let config = SimulationConfig {
         formulation: radial_with(geometry, density),
-        time_steps,
-        ..Default::default()
+        ..config
     };
     Simulation::new(
         &init,
@@ -404,8 +404,8 @@ fn a_spherical_elastic_pulse_runs_at_the_p_wave_speed() {
 }
 
 /// A hot core in cold gas (sound speeds 100 apart): `n` spherical shells 0.005 wide with
-/// continuity density, stepped as `time_steps` says.
-fn hot_core(n: usize, time_steps: TimeSteps) -> Simulation<1> {
+/// continuity density, stepped as `config` says.
+fn hot_core(n: usize, config: SimulationConfig) -> Simulation<1> {
     let pressure = |r: f64| 1e-3 + 10.0 * (-r * r / 0.003).exp();
     let continuity = ShellDensity::Continuity(SmoothingLength::FollowDensity { eta: 1.2 });
     stepped_shells(
@@ -415,13 +415,21 @@ fn hot_core(n: usize, time_steps: TimeSteps) -> Simulation<1> {
         continuity,
         |_| 1.0,
         pressure,
-        time_steps,
+        config,
     )
 }
 
+/// The configuration of a scene stepped as `time_steps` says.
+fn stepped(time_steps: TimeSteps) -> SimulationConfig {
+    SimulationConfig {
+        time_steps,
+        ..Default::default()
+    }
+}
+
 /// The hot core in 200 shells run to t = 0.02; with the total energy at the start.
-fn hot_core_blast(time_steps: TimeSteps) -> (Simulation<1>, f64) {
-    let mut sim = hot_core(200, time_steps);
+fn hot_core_blast(config: SimulationConfig) -> (Simulation<1>, f64) {
+    let mut sim = hot_core(200, config);
     let e0 = sim.particles().total_energy();
     sim.run_until(0.02, |_| {}).unwrap();
     (sim, e0)
@@ -436,8 +444,8 @@ fn hot_core_blast(time_steps: TimeSteps) -> (Simulation<1>, f64) {
 /// error), and the run takes fewer than half the global run's particle updates.
 #[test]
 fn individual_time_steps_follow_a_spherical_blast_with_less_work() {
-    let (global, _) = hot_core_blast(TimeSteps::Global);
-    let (individual, e0) = hot_core_blast(TimeSteps::Individual { max_ratio: 64 });
+    let (global, _) = hot_core_blast(stepped(TimeSteps::Global));
+    let (individual, e0) = hot_core_blast(stepped(TimeSteps::Individual { max_ratio: 64 }));
     let drift = (individual.particles().total_energy() - e0).abs() / e0;
     assert!(drift < 1e-4, "energy drift {drift:e}");
     let (g, s) = (global.particles(), individual.particles());
@@ -474,6 +482,38 @@ fn individual_time_steps_follow_a_spherical_blast_with_less_work() {
     );
 }
 
+/// Neighbour lists kept across steps change no result in shells, with global and with
+/// individual steps (whose limiter counts only the partners the kernel reaches): the hot core's
+/// blast to t = 0.1 ends in the same state, bit for bit, with the lists kept as with a search
+/// whenever anything has moved, and with at most half as many searches. The skin is the widest
+/// allowed (h), so that the kept lists carry many partners beyond the kernel's reach.
+#[test]
+fn kept_neighbour_lists_change_no_result_in_shells() {
+    for time_steps in [TimeSteps::Global, TimeSteps::Individual { max_ratio: 64 }] {
+        let run = |neighbour_skin: f64| {
+            let config = SimulationConfig {
+                neighbour_skin,
+                ..stepped(time_steps)
+            };
+            let mut sim = hot_core(200, config);
+            sim.run_until(0.1, |_| {}).unwrap();
+            sim
+        };
+        let (kept, fresh) = (run(1.0), run(0.0));
+        let (a, b) = (kept.particles(), fresh.particles());
+        assert_eq!(kept.steps(), fresh.steps(), "{time_steps:?}");
+        assert_eq!(a.position, b.position, "{time_steps:?}");
+        assert_eq!(a.velocity, b.velocity, "{time_steps:?}");
+        assert_eq!(a.density, b.density, "{time_steps:?}");
+        assert_eq!(a.internal_energy, b.internal_energy, "{time_steps:?}");
+        let (searches, fresh_searches) = (kept.neighbour_searches(), fresh.neighbour_searches());
+        assert!(
+            2 * searches <= fresh_searches,
+            "{time_steps:?}: {searches} searches kept, {fresh_searches} without"
+        );
+    }
+}
+
 /// Individual time steps give bitwise the same state on one, two and three threads.
 #[test]
 fn individual_time_steps_are_deterministic_across_thread_counts() {
@@ -482,7 +522,7 @@ fn individual_time_steps_are_deterministic_across_thread_counts() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| hot_core_blast(TimeSteps::Individual { max_ratio: 64 }).0)
+        pool.install(|| hot_core_blast(stepped(TimeSteps::Individual { max_ratio: 64 })).0)
     };
     let one = run(1);
     for threads in [2, 3] {
@@ -532,7 +572,7 @@ fn individual_time_steps_are_refused_where_they_are_not_built() {
         continuity,
         |_| 1.0,
         |_| 1.0,
-        individual(8),
+        stepped(individual(8)),
     );
     let refusal = sim.step(1e-3).unwrap_err().to_string();
     assert!(refusal.contains("step_toward"), "{refusal}");
@@ -542,7 +582,7 @@ fn individual_time_steps_are_refused_where_they_are_not_built() {
 /// asked for; a block once open is not cut short: an end inside it is refused by name.
 #[test]
 fn individual_time_steps_move_the_clock_forward_to_the_end() {
-    let mut sim = hot_core(40, TimeSteps::Individual { max_ratio: 64 });
+    let mut sim = hot_core(40, stepped(TimeSteps::Individual { max_ratio: 64 }));
     let end = 2e-3;
     let mut times = vec![sim.time()];
     while sim.time() < end {

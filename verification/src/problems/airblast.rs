@@ -194,6 +194,7 @@ fn settings(params: &Params, burst: Burst, charge_kg: f64) -> Result<Settings, V
             cfl: params.cfl()?,
             // a scale of the charge's own, so that the scene has no length or time of its own
             min_time_step: 1e-9 * radius / detonation_speed,
+            ..SimulationConfig::default()
         },
     })
 }

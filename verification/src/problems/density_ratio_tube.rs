@@ -117,6 +117,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         energy: EnergyEquation::OwnPressure,
         cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
+        ..SimulationConfig::default()
     };
     Ok(Settings {
         names,

@@ -206,6 +206,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
             energy: EnergyEquation::OwnPressure,
             cfl: params.cfl()?,
             min_time_step: 1e-9 * radius / detonation_speed,
+            ..SimulationConfig::default()
         },
     })
 }

@@ -246,6 +246,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         energy: blastsph_solver::EnergyEquation::OwnPressure,
         cfl: params.cfl()?,
         min_time_step: 1e-9 * exact.end_time(2.0 * unit),
+        ..SimulationConfig::default()
     };
     Ok(Settings {
         a,

@@ -195,6 +195,7 @@ fn settings(v: &'static Variant, params: &Params) -> Result<Settings, VerifyErro
         energy: EnergyEquation::OwnPressure,
         cfl: params.cfl()?,
         min_time_step: 1e-9 * t_end,
+        ..SimulationConfig::default()
     };
     Ok(Settings {
         variant: v,

@@ -207,6 +207,7 @@ fn settings(name: &str, params: &Params) -> Result<Settings, VerifyError> {
         cfl: params.cfl()?,
         // a step 1e-9 of the run's length means the run would need 1e9 steps: collapsed
         min_time_step: 1e-9 * t_end,
+        ..SimulationConfig::default()
     };
     case.t_out = t_end;
     let table = (case.left, case.right);

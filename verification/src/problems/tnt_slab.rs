@@ -204,6 +204,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
         energy: EnergyEquation::OwnPressure,
         cfl: params.cfl()?,
         min_time_step: 1e-9 * length / detonation.speed,
+        ..SimulationConfig::default()
     };
     Ok(Settings {
         length,

@@ -509,6 +509,7 @@ fn config(scene: &Scene) -> SimulationConfig {
         cfl: scene.cfl,
         // a step below 1e-9 of the time a 10 km/s signal takes across the finest spacing
         min_time_step: 1e-9 * finest / 1e4,
+        ..SimulationConfig::default()
     }
 }
 
