@@ -24,3 +24,44 @@ impl SplitMix64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The reference outputs for seed 1234567 (Rosetta Code, "Pseudo-random numbers/Splitmix64",
+    /// from Vigna's splitmix64.c).
+    #[test]
+    fn gives_the_reference_sequence() {
+        let mut rng = SplitMix64::new(1234567);
+        let expected: [u64; 5] = [
+            6457827717110365317,
+            3203168211198807973,
+            9817491932198370423,
+            4593380528125082431,
+            16408922859458223821,
+        ];
+        for value in expected {
+            assert_eq!(rng.next_u64(), value);
+        }
+    }
+
+    /// Uniform draws lie in [0, 1) and fill it evenly: over 10⁵ draws each fifth holds 20 % of
+    /// them within 1.5 % (about five standard deviations of a binomial count, √(n p (1 − p))
+    /// = 126 of 20 000), and the first draw is the first output's top 53 bits over 2⁵³.
+    #[test]
+    fn uniform_draws_fill_the_unit_interval_evenly() {
+        let mut rng = SplitMix64::new(987654321);
+        let mut counts = [0usize; 5];
+        for _ in 0..100_000 {
+            let u = rng.uniform();
+            assert!((0.0..1.0).contains(&u), "{u}");
+            counts[(u * 5.0) as usize] += 1;
+        }
+        for count in counts {
+            assert!(count.abs_diff(20_000) < 300, "{counts:?}");
+        }
+        let first = SplitMix64::new(1234567).uniform();
+        assert_eq!(first, 0.3500795420214081);
+    }
+}

@@ -792,8 +792,12 @@ impl<const D: usize> Simulation<D> {
             }
         };
         let mut shortest = u64::MAX;
-        for j in self.neighbours.of(i).filter(|&j| j < n && reaches(j)) {
-            shortest = shortest.min(blocks.ticks_of(j));
+        for j in self.neighbours.of(i).filter(|&j| j < n) {
+            let ticks = blocks.ticks_of(j);
+            // the reach is tested only where the partner would set a new shortest
+            if ticks < shortest && reaches(j) {
+                shortest = ticks;
+            }
         }
         shortest
     }
