@@ -49,10 +49,9 @@
 //! at η = 1.2, where G^even alone balanced it to round-off. The hoop strain rate v_r/r carries
 //! the same G_i as the hoop force, so the hoop work still cancels in the energy.
 
-use crate::kernel::Kernel;
-use crate::neighbours::NeighbourList;
 use crate::pairs::{self, PairEquation};
 use crate::particles::Particles;
+use crate::physics::{KernelLink, KernelPairs};
 use crate::Vector;
 use std::f64::consts::PI;
 
@@ -93,26 +92,22 @@ impl PairGeometry {
 /// field r continued across the axis), A_j = m_j/(2π|r_j|ρ_j). See the module note.
 pub fn radius_gradients<const D: usize>(
     particles: &Particles<D>,
-    neighbours: &NeighbourList,
-    kernel: &Kernel<D>,
+    kernel_pairs: &KernelPairs,
 ) -> Vec<f64> {
-    pairs::gather(&RadiusGradient { kernel }, particles, neighbours)
+    pairs::gather(&RadiusGradient, particles, kernel_pairs)
 }
 
 /// The pass of [`radius_gradients`].
-struct RadiusGradient<'a, const D: usize> {
-    kernel: &'a Kernel<D>,
-}
+struct RadiusGradient;
 
 /// What the radius-gradient pass reads of a neighbour.
 struct RingSource<const D: usize> {
     position: Vector<D>,
-    smoothing_length: f64,
     /// The ring's cross-section A = m/η.
     area: f64,
 }
 
-impl<const D: usize> PairEquation<D> for RadiusGradient<'_, D> {
+impl<const D: usize> PairEquation<D, KernelLink> for RadiusGradient {
     type Source = RingSource<D>;
     /// G^even and G^odd.
     type Sum = (f64, f64);
@@ -121,7 +116,6 @@ impl<const D: usize> PairEquation<D> for RadiusGradient<'_, D> {
     fn source(&self, p: &Particles<D>, k: usize) -> RingSource<D> {
         RingSource {
             position: p.position[k],
-            smoothing_length: p.smoothing_length[k],
             area: p.mass[k] / (p.density[k] * PairGeometry::Axisymmetric.scales(p, k).0),
         }
     }
@@ -136,18 +130,11 @@ impl<const D: usize> PairEquation<D> for RadiusGradient<'_, D> {
         (even, odd): &mut (f64, f64),
         me: &RingSource<D>,
         other: &RingSource<D>,
-        _: &(),
+        link: &KernelLink,
     ) {
+        // rings take the mean-h kernel, the same from both sides
+        let &KernelLink { r, dw_i: dw, .. } = link;
         let dx = me.position - other.position;
-        let r = dx.norm();
-        if r == 0.0 {
-            return;
-        }
-        let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        let dw = self.kernel.derivative(r, h);
-        if dw == 0.0 {
-            return; // beyond the kernel's reach
-        }
         let weight = other.area * dw * dx[0] / r;
         let (r_i, r_j) = (me.position[0], other.position[0]);
         *even -= weight * (r_i - r_j.abs());

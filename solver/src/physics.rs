@@ -591,11 +591,9 @@ struct Rates<const D: usize> {
 }
 
 /// The Euler pair terms: momentum, energy and density rates (see [`compute_rates`]).
-struct EulerRates<'a, const D: usize> {
-    kernel: &'a Kernel<D>,
+struct EulerRates<'a> {
     viscosity: &'a ArtificialViscosity,
     energy: EnergyEquation,
-    pair_kernel: PairKernel,
     /// Continuity density: the volume form of density, momentum and energy rates.
     volume_form: bool,
     geometry: PairGeometry,
@@ -603,10 +601,10 @@ struct EulerRates<'a, const D: usize> {
     balsara: Option<&'a [f64]>,
 }
 
-impl<const D: usize> EulerRates<'_, D> {
+impl EulerRates<'_> {
     /// The factor that turns j's m_j v_ij·∇W into its share of Dρ_i/Dt.
     #[inline]
-    fn density_weight(&self, me: &RateSource<D>, other: &RateSource<D>) -> f64 {
+    fn density_weight<const D: usize>(&self, me: &RateSource<D>, other: &RateSource<D>) -> f64 {
         if self.volume_form {
             me.density / other.density
         } else {
@@ -616,7 +614,7 @@ impl<const D: usize> EulerRates<'_, D> {
 
     /// What i's pressure factor is multiplied by in the pair with j: 1/ρ_j in the volume form.
     #[inline]
-    fn partner_factor(&self, other: &RateSource<D>) -> f64 {
+    fn partner_factor<const D: usize>(&self, other: &RateSource<D>) -> f64 {
         if self.volume_form {
             1.0 / other.density
         } else {
@@ -625,7 +623,7 @@ impl<const D: usize> EulerRates<'_, D> {
     }
 }
 
-impl<const D: usize> PairEquation<D> for EulerRates<'_, D> {
+impl<const D: usize> PairEquation<D, KernelLink> for EulerRates<'_> {
     type Source = RateSource<D>;
     type Sum = Rates<D>;
     type Output = Rates<D>;
@@ -670,27 +668,19 @@ impl<const D: usize> PairEquation<D> for EulerRates<'_, D> {
     }
 
     #[inline]
-    fn pair(&self, out: &mut Rates<D>, me: &RateSource<D>, other: &RateSource<D>, _: &()) {
+    fn pair(
+        &self,
+        out: &mut Rates<D>,
+        me: &RateSource<D>,
+        other: &RateSource<D>,
+        link: &KernelLink,
+    ) {
         let dx = me.position - other.position;
         let r2 = dx.norm_squared();
-        if r2 == 0.0 {
-            return; // coincident particles: ∇W = 0 by symmetry
-        }
-        let r = r2.sqrt();
+        // dW/dr for i's pressure, for j's, and their mean for viscosity and conduction
+        let &KernelLink { r, dw_i, dw_j } = link;
         let inv_r = 1.0 / r;
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        // dW/dr for i's pressure, for j's, and their mean for viscosity and conduction
-        let (dw_i, dw_j) = self.pair_kernel.derivatives(
-            self.kernel,
-            r,
-            me.smoothing_length,
-            other.smoothing_length,
-        );
-        if dw_i == 0.0 && dw_j == 0.0 {
-            // beyond the kernel's reach (lists kept across steps list such partners): every
-            // term, the signal speed included, is the pair's only where the kernel reaches
-            return;
-        }
         let dw_mean = 0.5 * (dw_i + dw_j);
         let v_ij = me.velocity - other.velocity;
         let v_dot_x = v_ij.dot(&dx);
@@ -785,6 +775,67 @@ impl PairKernel {
     }
 }
 
+/// A pair within the kernel's reach, as the rate passes see it: the distance and dW/dr for
+/// i's side and for j's ([`PairKernel::derivatives`]).
+#[derive(Clone, Copy, Debug)]
+pub struct KernelLink {
+    pub r: f64,
+    pub dw_i: f64,
+    pub dw_j: f64,
+}
+
+/// Each real particle's partners within the kernel's reach, in the order of its neighbour
+/// list, with their [`KernelLink`] worked out once for the passes of a rate evaluation that
+/// share it (velocity gradients, radius gradients, the Euler rates, the stress forces). Pairs
+/// with r = 0 or both derivatives zero, which every such pass skips, are left out; kept lists'
+/// partners beyond the kernel's reach are among them. Partners for the pair driver.
+pub struct KernelPairs {
+    lists: Vec<Vec<(u32, KernelLink)>>,
+}
+
+impl KernelPairs {
+    pub fn new<const D: usize>(
+        particles: &Particles<D>,
+        neighbours: &NeighbourList,
+        kernel: &Kernel<D>,
+        pair_kernel: PairKernel,
+    ) -> Self {
+        let p = particles;
+        let lists = (0..p.n_real())
+            .into_par_iter()
+            .with_min_len(pairs::PARTICLES_PER_TASK)
+            .map(|i| {
+                let (x_i, h_i) = (p.position[i], p.smoothing_length[i]);
+                let mut list = Vec::new();
+                for j in neighbours.of(i) {
+                    let r = (x_i - p.position[j]).norm();
+                    if r == 0.0 {
+                        continue;
+                    }
+                    let (dw_i, dw_j) =
+                        pair_kernel.derivatives(kernel, r, h_i, p.smoothing_length[j]);
+                    if dw_i != 0.0 || dw_j != 0.0 {
+                        list.push((j as u32, KernelLink { r, dw_i, dw_j }));
+                    }
+                }
+                list
+            })
+            .collect();
+        Self { lists }
+    }
+}
+
+impl pairs::Partners for KernelPairs {
+    type Link = KernelLink;
+
+    #[inline]
+    fn visit(&self, i: usize, mut visit: impl FnMut(usize, &KernelLink)) {
+        for (j, link) in &self.lists[i] {
+            visit(*j as usize, link);
+        }
+    }
+}
+
 /// Sums over the real particles that the rate loops return beside the per-particle rates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RateTotals<const D: usize> {
@@ -836,24 +887,20 @@ impl<const D: usize> Default for RateTotals<D> {
 #[allow(clippy::too_many_arguments)]
 pub fn compute_rates<const D: usize>(
     particles: &mut Particles<D>,
-    neighbours: &NeighbourList,
-    kernel: &Kernel<D>,
+    kernel_pairs: &KernelPairs,
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
-    pair_kernel: PairKernel,
     balsara: Option<&[f64]>,
     geometry: PairGeometry,
 ) -> RateTotals<D> {
     let equation = EulerRates {
-        kernel,
         viscosity,
         energy,
-        pair_kernel,
         volume_form: !particles.density_rate.is_empty(),
         geometry,
         balsara,
     };
-    let rates = pairs::gather(&equation, particles, neighbours);
+    let rates = pairs::gather(&equation, particles, kernel_pairs);
     let p = particles;
     let (continuity, grad_h) = (!p.density_rate.is_empty(), !p.smoothing_rate.is_empty());
     let mut totals = RateTotals::default();
@@ -881,24 +928,18 @@ pub fn compute_rates<const D: usize>(
 /// Axisymmetric: the planar (r, z) block, with the ring densities as ρ.
 pub fn velocity_gradients<const D: usize>(
     particles: &Particles<D>,
-    neighbours: &NeighbourList,
-    kernel: &Kernel<D>,
-    pair_kernel: PairKernel,
+    kernel_pairs: &KernelPairs,
     geometry: PairGeometry,
 ) -> Vec<Tensor<D>> {
     let equation = VelocityGradient {
-        kernel,
-        pair_kernel,
         geometry,
         volume_form: !particles.density_rate.is_empty(),
     };
-    pairs::gather(&equation, particles, neighbours)
+    pairs::gather(&equation, particles, kernel_pairs)
 }
 
 /// The velocity-gradient pass (see [`velocity_gradients`]).
-struct VelocityGradient<'a, const D: usize> {
-    kernel: &'a Kernel<D>,
-    pair_kernel: PairKernel,
+struct VelocityGradient {
     geometry: PairGeometry,
     volume_form: bool,
 }
@@ -907,7 +948,6 @@ struct VelocityGradient<'a, const D: usize> {
 struct GradientSource<const D: usize> {
     position: Vector<D>,
     velocity: Vector<D>,
-    smoothing_length: f64,
     mass: f64,
     /// ρ, or η = 2π|r|ρ in an axisymmetric scene.
     ring_density: f64,
@@ -915,7 +955,7 @@ struct GradientSource<const D: usize> {
     omega: f64,
 }
 
-impl<const D: usize> PairEquation<D> for VelocityGradient<'_, D> {
+impl<const D: usize> PairEquation<D, KernelLink> for VelocityGradient {
     type Source = GradientSource<D>;
     type Sum = Tensor<D>;
     type Output = Tensor<D>;
@@ -924,7 +964,6 @@ impl<const D: usize> PairEquation<D> for VelocityGradient<'_, D> {
         GradientSource {
             position: p.position[k],
             velocity: p.velocity[k],
-            smoothing_length: p.smoothing_length[k],
             mass: p.mass[k],
             ring_density: p.density[k] * self.geometry.scales(p, k).0,
             omega: p.omega.get(k).copied().unwrap_or(1.0),
@@ -941,26 +980,19 @@ impl<const D: usize> PairEquation<D> for VelocityGradient<'_, D> {
         gradient: &mut Tensor<D>,
         me: &GradientSource<D>,
         other: &GradientSource<D>,
-        _: &(),
+        link: &KernelLink,
     ) {
-        let dx = me.position - other.position;
-        let r = dx.norm();
-        if r == 0.0 {
-            return;
+        // ∇_i W(r, h̄) (mean h) or ∇_i W(r, h_i) (grad-h)
+        let &KernelLink { r, dw_i: dw, .. } = link;
+        if dw == 0.0 {
+            return; // only j's kernel reaches i
         }
-        let h = match self.pair_kernel {
-            PairKernel::MeanH => 0.5 * (me.smoothing_length + other.smoothing_length),
-            PairKernel::OwnH => me.smoothing_length,
-        };
+        let dx = me.position - other.position;
         let weight = if self.volume_form {
             1.0 / other.ring_density
         } else {
             1.0 / me.ring_density
         };
-        let dw = self.kernel.derivative(r, h);
-        if dw == 0.0 {
-            return; // beyond the kernel's reach
-        }
         let scale = other.mass * weight * dw / r;
         *gradient += (other.velocity - me.velocity) * (dx * scale).transpose();
     }
@@ -1017,15 +1049,15 @@ struct StressSource<const D: usize> {
 /// part of m_i a_i exerted by wall images, and the heat returned for the artificial stress's
 /// work.
 struct StressForces<'a, const D: usize> {
+    /// W itself, for the artificial stress's f = W(r)/W(Δp).
     kernel: &'a Kernel<D>,
-    pair_kernel: PairKernel,
     volume_form: bool,
     shear_modulus: &'a [f64],
     artificial_stress: Option<ArtificialStress>,
     geometry: PairGeometry,
 }
 
-impl<const D: usize> PairEquation<D> for StressForces<'_, D> {
+impl<const D: usize> PairEquation<D, KernelLink> for StressForces<'_, D> {
     type Source = StressSource<D>;
     type Sum = (Vector<D>, Vector<D>, f64);
     type Output = (Vector<D>, Vector<D>, f64);
@@ -1072,13 +1104,10 @@ impl<const D: usize> PairEquation<D> for StressForces<'_, D> {
         (acceleration, wall, heating): &mut Self::Sum,
         me: &StressSource<D>,
         other: &StressSource<D>,
-        _: &(),
+        link: &KernelLink,
     ) {
         let dx = me.position - other.position;
-        let r = dx.norm();
-        if r == 0.0 {
-            return;
-        }
+        let &KernelLink { r, dw_i, dw_j } = link;
         let partner = |other: &StressSource<D>| {
             if self.volume_form {
                 1.0 / other.density
@@ -1086,15 +1115,6 @@ impl<const D: usize> PairEquation<D> for StressForces<'_, D> {
                 1.0
             }
         };
-        let (dw_i, dw_j) = self.pair_kernel.derivatives(
-            self.kernel,
-            r,
-            me.smoothing_length,
-            other.smoothing_length,
-        );
-        if dw_i == 0.0 && dw_j == 0.0 {
-            return; // beyond the kernel's reach
-        }
         let mut force = (me.stress_factor * (partner(other) * dw_i)
             + other.stress_factor * (partner(me) * dw_j))
             * (dx / r)
@@ -1135,9 +1155,8 @@ impl<const D: usize> PairEquation<D> for StressForces<'_, D> {
 #[allow(clippy::too_many_arguments)]
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
-    neighbours: &NeighbourList,
+    kernel_pairs: &KernelPairs,
     kernel: &Kernel<D>,
-    pair_kernel: PairKernel,
     velocity_gradient: &[Tensor<D>],
     shear_modulus: &[f64],
     artificial_stress: Option<ArtificialStress>,
@@ -1146,13 +1165,12 @@ pub fn add_stress_rates<const D: usize>(
 ) -> RateTotals<D> {
     let equation = StressForces {
         kernel,
-        pair_kernel,
         volume_form: !particles.density_rate.is_empty(),
         shear_modulus,
         artificial_stress,
         geometry,
     };
-    let rates = pairs::gather(&equation, particles, neighbours);
+    let rates = pairs::gather(&equation, particles, kernel_pairs);
     let p = particles;
     let mut totals = RateTotals::default();
     for (i, (acceleration, wall, heating)) in rates.into_iter().enumerate() {

@@ -1283,8 +1283,9 @@ impl<const D: usize> Simulation<D> {
     /// the hoop terms (axisymmetric).
     fn evaluate_pair_rates(&mut self, time: f64) {
         let p = &mut self.particles;
-        let neighbours = &self.neighbours;
         let pair_kernel = self.config.formulation.pair_kernel();
+        let kernel_pairs =
+            physics::KernelPairs::new(p, &self.neighbours, &self.kernel, pair_kernel);
         let pair_geometry = if self.config.formulation.is_axisymmetric() {
             PairGeometry::Axisymmetric
         } else {
@@ -1292,15 +1293,14 @@ impl<const D: usize> Simulation<D> {
         };
         let solids = !p.deviatoric_stress.is_empty();
         let radius_gradient = (pair_geometry == PairGeometry::Axisymmetric)
-            .then(|| axisymmetric::radius_gradients(p, neighbours, &self.kernel));
+            .then(|| axisymmetric::radius_gradients(p, &kernel_pairs));
         let hoop_rate = radius_gradient
             .as_ref()
             .map(|g| axisymmetric::hoop_strain_rates(p, g));
         let hoop_rate_of = |i: usize| hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
         let switch = self.config.viscosity.switch;
-        let gradients = (solids || self.config.viscosity.balsara || switch.is_some()).then(|| {
-            physics::velocity_gradients(p, neighbours, &self.kernel, pair_kernel, pair_geometry)
-        });
+        let gradients = (solids || self.config.viscosity.balsara || switch.is_some())
+            .then(|| physics::velocity_gradients(p, &kernel_pairs, pair_geometry));
         let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
             (Some(gradients), true) => Some(
                 (0..p.n_real())
@@ -1323,11 +1323,9 @@ impl<const D: usize> Simulation<D> {
         }
         self.totals = physics::compute_rates(
             p,
-            neighbours,
-            &self.kernel,
+            &kernel_pairs,
             &self.config.viscosity,
             self.config.energy,
-            pair_kernel,
             balsara.as_deref(),
             pair_geometry,
         );
@@ -1335,9 +1333,8 @@ impl<const D: usize> Simulation<D> {
             let shear_modulus = shear_moduli(&self.materials);
             let stress = physics::add_stress_rates(
                 p,
-                neighbours,
+                &kernel_pairs,
                 &self.kernel,
-                pair_kernel,
                 gradients,
                 &shear_modulus,
                 self.config.viscosity.artificial_stress,
