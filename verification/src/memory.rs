@@ -3,15 +3,16 @@
 
 /// Peak resident bytes per particle of a run in `dimension` dimensions: the particle fields,
 /// the mirror and periodic images, the neighbour lists (searched with h widened by the skin, so
-/// (1.2)^D times the pairs the kernel reaches) and the output snapshot. Measured peaks
-/// (`/usr/bin/time`, release build): sedov-3d at 27 000 particles 121 MB (4.5 kB each),
-/// sedov-2d at 25 600 particles 41 MB (1.6 kB), sod at 22 500 particles 27 MB (1.2 kB, most of
+/// (1.2)^D times the pairs the kernel reaches), the pairs the kernel reaches with their kernel
+/// derivatives (`KernelPairs`, 32 bytes a pair) and the output snapshot. Measured peaks
+/// (`/usr/bin/time`, release build): sedov-3d at 27 000 particles 143 MB (5.3 kB each),
+/// sedov-2d at 25 600 particles 68 MB (2.7 kB), sod at 22 500 particles 27 MB (1.2 kB, most of
 /// it the program itself); rounded up so that the estimate is an upper bound.
 pub fn bytes_per_particle(dimension: usize) -> f64 {
     match dimension {
         1 => 1536.0,
-        2 => 2048.0,
-        _ => 6144.0,
+        2 => 3584.0,
+        _ => 7168.0,
     }
 }
 
