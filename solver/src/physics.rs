@@ -788,40 +788,55 @@ pub struct KernelLink {
 /// list, with their [`KernelLink`] worked out once for the passes of a rate evaluation that
 /// share it (velocity gradients, radius gradients, the Euler rates, the stress forces). Pairs
 /// with r = 0 or both derivatives zero, which every such pass skips, are left out; kept lists'
-/// partners beyond the kernel's reach are among them. Partners for the pair driver.
+/// partners beyond the kernel's reach are among them. Partners for the pair driver. Rebuilt in
+/// place at every rate evaluation, so that its buffers are allocated once.
+#[derive(Clone, Debug, Default)]
 pub struct KernelPairs {
-    lists: Vec<Vec<(u32, KernelLink)>>,
+    /// The pairs of particles `PAIR_CHUNK·c..PAIR_CHUNK·(c + 1)`, end to end, in chunk c.
+    chunks: Vec<Vec<(u32, KernelLink)>>,
+    /// Where each particle's pairs end in its chunk.
+    ends: Vec<u32>,
 }
 
+/// Particles per chunk of [`KernelPairs`], each chunk filled by one parallel task.
+const PAIR_CHUNK: usize = 256;
+
 impl KernelPairs {
-    pub fn new<const D: usize>(
+    /// The pairs of the real particles' current positions and smoothing lengths.
+    pub fn rebuild<const D: usize>(
+        &mut self,
         particles: &Particles<D>,
         neighbours: &NeighbourList,
         kernel: &Kernel<D>,
         pair_kernel: PairKernel,
-    ) -> Self {
+    ) {
         let p = particles;
-        let lists = (0..p.n_real())
-            .into_par_iter()
-            .with_min_len(pairs::PARTICLES_PER_TASK)
-            .map(|i| {
-                let (x_i, h_i) = (p.position[i], p.smoothing_length[i]);
-                let mut list = Vec::new();
-                for j in neighbours.of(i) {
-                    let r = (x_i - p.position[j]).norm();
-                    if r == 0.0 {
-                        continue;
+        let n = p.n_real();
+        self.chunks.resize_with(n.div_ceil(PAIR_CHUNK), Vec::new);
+        self.ends.resize(n, 0);
+        self.chunks
+            .par_iter_mut()
+            .zip(self.ends.par_chunks_mut(PAIR_CHUNK))
+            .enumerate()
+            .for_each(|(c, (pairs, ends))| {
+                pairs.clear();
+                for (k, end) in ends.iter_mut().enumerate() {
+                    let i = c * PAIR_CHUNK + k;
+                    let (x_i, h_i) = (p.position[i], p.smoothing_length[i]);
+                    for j in neighbours.of(i) {
+                        let r = (x_i - p.position[j]).norm();
+                        if r == 0.0 {
+                            continue;
+                        }
+                        let (dw_i, dw_j) =
+                            pair_kernel.derivatives(kernel, r, h_i, p.smoothing_length[j]);
+                        if dw_i != 0.0 || dw_j != 0.0 {
+                            pairs.push((j as u32, KernelLink { r, dw_i, dw_j }));
+                        }
                     }
-                    let (dw_i, dw_j) =
-                        pair_kernel.derivatives(kernel, r, h_i, p.smoothing_length[j]);
-                    if dw_i != 0.0 || dw_j != 0.0 {
-                        list.push((j as u32, KernelLink { r, dw_i, dw_j }));
-                    }
+                    *end = pairs.len() as u32;
                 }
-                list
-            })
-            .collect();
-        Self { lists }
+            });
     }
 }
 
@@ -830,7 +845,9 @@ impl pairs::Partners for KernelPairs {
 
     #[inline]
     fn visit(&self, i: usize, mut visit: impl FnMut(usize, &KernelLink)) {
-        for (j, link) in &self.lists[i] {
+        let (chunk, k) = (i / PAIR_CHUNK, i % PAIR_CHUNK);
+        let start = if k == 0 { 0 } else { self.ends[i - 1] as usize };
+        for (j, link) in &self.chunks[chunk][start..self.ends[i] as usize] {
             visit(*j as usize, link);
         }
     }

@@ -244,6 +244,8 @@ pub struct Simulation<const D: usize> {
     /// when the kept neighbour lists were searched.
     blocks: Option<BlockSteps>,
     list_origin: ListOrigin<D>,
+    /// The pairs the kernel reaches with their kernel derivatives, for the rate passes.
+    kernel_pairs: physics::KernelPairs,
 }
 
 /// Where the real particles were when the kept neighbour lists were searched, and the h each
@@ -504,6 +506,7 @@ impl<const D: usize> Simulation<D> {
             prescribed: state.prescribed,
             blocks: None,
             list_origin: ListOrigin::default(),
+            kernel_pairs: physics::KernelPairs::default(),
             neighbour_searches: 0,
         };
         if let Some(stress) = state.deviatoric_stress {
@@ -1284,8 +1287,9 @@ impl<const D: usize> Simulation<D> {
     fn evaluate_pair_rates(&mut self, time: f64) {
         let p = &mut self.particles;
         let pair_kernel = self.config.formulation.pair_kernel();
-        let kernel_pairs =
-            physics::KernelPairs::new(p, &self.neighbours, &self.kernel, pair_kernel);
+        let kernel_pairs = &mut self.kernel_pairs;
+        kernel_pairs.rebuild(p, &self.neighbours, &self.kernel, pair_kernel);
+        let kernel_pairs = &*kernel_pairs;
         let pair_geometry = if self.config.formulation.is_axisymmetric() {
             PairGeometry::Axisymmetric
         } else {
@@ -1293,14 +1297,14 @@ impl<const D: usize> Simulation<D> {
         };
         let solids = !p.deviatoric_stress.is_empty();
         let radius_gradient = (pair_geometry == PairGeometry::Axisymmetric)
-            .then(|| axisymmetric::radius_gradients(p, &kernel_pairs));
+            .then(|| axisymmetric::radius_gradients(p, kernel_pairs));
         let hoop_rate = radius_gradient
             .as_ref()
             .map(|g| axisymmetric::hoop_strain_rates(p, g));
         let hoop_rate_of = |i: usize| hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
         let switch = self.config.viscosity.switch;
         let gradients = (solids || self.config.viscosity.balsara || switch.is_some())
-            .then(|| physics::velocity_gradients(p, &kernel_pairs, pair_geometry));
+            .then(|| physics::velocity_gradients(p, kernel_pairs, pair_geometry));
         let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
             (Some(gradients), true) => Some(
                 (0..p.n_real())
@@ -1323,7 +1327,7 @@ impl<const D: usize> Simulation<D> {
         }
         self.totals = physics::compute_rates(
             p,
-            &kernel_pairs,
+            kernel_pairs,
             &self.config.viscosity,
             self.config.energy,
             balsara.as_deref(),
@@ -1333,7 +1337,7 @@ impl<const D: usize> Simulation<D> {
             let shear_modulus = shear_moduli(&self.materials);
             let stress = physics::add_stress_rates(
                 p,
-                &kernel_pairs,
+                kernel_pairs,
                 &self.kernel,
                 gradients,
                 &shear_modulus,
