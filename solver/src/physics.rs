@@ -447,19 +447,46 @@ pub fn solve_smoothing_lengths<const D: usize>(
     let sources = pairs::sources(&DensityAtH { kernel, h: 0.0 }, p);
     (0..p.n_real())
         .into_par_iter()
-        .map(|i| {
+        .map_init(Vec::new, |within, i| {
             let reach = reach[i];
             let guess = initial_guess[i].min(reach);
+            // every trial h stays within the reach, where the kernel of a farther partner is 0
+            within.clear();
+            let x_i = p.position[i];
+            for j in neighbours.of(i) {
+                let r = (x_i - p.position[j]).norm();
+                if kernel.reaches(r, reach) {
+                    within.push((j as u32, r));
+                }
+            }
+            let partners = PartnersWithin { list: within };
             solve_one(
                 i,
                 &sources,
-                neighbours,
+                &partners,
                 kernel,
                 (eta, tolerance),
                 (guess, reach),
             )
         })
         .collect()
+}
+
+/// One particle's partners within a distance, each with its distance r: the pairs grad-h's
+/// root finder sums at every trial h, found once.
+struct PartnersWithin<'a> {
+    list: &'a [(u32, f64)],
+}
+
+impl pairs::Partners for PartnersWithin<'_> {
+    type Link = f64;
+
+    #[inline]
+    fn visit(&self, _: usize, mut visit: impl FnMut(usize, &f64)) {
+        for &(j, r) in self.list {
+            visit(j as usize, &r);
+        }
+    }
 }
 
 /// Σ_j m_j W(r_ij, h) and its h derivative Σ_j m_j ∂W(r_ij, h)/∂h at one trial h of the
@@ -469,16 +496,17 @@ struct DensityAtH<'a, const D: usize> {
     h: f64,
 }
 
-impl<const D: usize> PairEquation<D> for DensityAtH<'_, D> {
-    type Source = (Vector<D>, f64);
+impl<const D: usize> PairEquation<D, f64> for DensityAtH<'_, D> {
+    /// The particle's mass.
+    type Source = f64;
     type Sum = (f64, f64);
     type Output = (f64, f64);
 
-    fn source(&self, p: &Particles<D>, k: usize) -> (Vector<D>, f64) {
-        (p.position[k], p.mass[k])
+    fn source(&self, p: &Particles<D>, k: usize) -> f64 {
+        p.mass[k]
     }
 
-    fn start(&self, &(_, m_i): &(Vector<D>, f64)) -> (f64, f64) {
+    fn start(&self, &m_i: &f64) -> (f64, f64) {
         (
             m_i * self.kernel.value(0.0, self.h),
             m_i * self.kernel.h_derivative(0.0, self.h),
@@ -486,34 +514,27 @@ impl<const D: usize> PairEquation<D> for DensityAtH<'_, D> {
     }
 
     #[inline]
-    fn pair(
-        &self,
-        (rho, drho): &mut (f64, f64),
-        &(x_i, _): &(Vector<D>, f64),
-        &(x_j, m_j): &(Vector<D>, f64),
-        _: &(),
-    ) {
-        let r = (x_i - x_j).norm();
+    fn pair(&self, (rho, drho): &mut (f64, f64), _: &f64, &m_j: &f64, &r: &f64) {
         *rho += m_j * self.kernel.value(r, self.h);
         *drho += m_j * self.kernel.h_derivative(r, self.h);
     }
 
-    fn finish(&self, _: &(Vector<D>, f64), sums: (f64, f64)) -> (f64, f64) {
+    fn finish(&self, _: &f64, sums: (f64, f64)) -> (f64, f64) {
         sums
     }
 }
 
 fn solve_one<const D: usize>(
     i: usize,
-    sources: &[(Vector<D>, f64)],
-    neighbours: &NeighbourList,
+    sources: &[f64],
+    partners: &PartnersWithin,
     kernel: &Kernel<D>,
     (eta, tolerance): (f64, f64),
     (guess, reach): (f64, f64),
 ) -> SmoothingSolution {
-    let m_i = sources[i].1;
+    let m_i = sources[i];
     let dim = D as f64;
-    let sums = |h: f64| pairs::sum_at(&DensityAtH { kernel, h }, sources, neighbours, i);
+    let sums = |h: f64| pairs::sum_at(&DensityAtH { kernel, h }, sources, partners, i);
     let (mut lo, mut hi) = (0.0, f64::INFINITY);
     let mut h = guess;
     for _ in 0..MAX_SMOOTHING_ITERATIONS {
