@@ -28,7 +28,9 @@ pub enum YieldSurface {
     /// the tension cutoff p < −σ_t (the soil has failed in tension there).
     DruckerPrager {
         cohesion: f64,
-        friction_angle: f64,
+        /// sin φ and cos φ (the limit is evaluated at every return).
+        sin_friction: f64,
+        cos_friction: f64,
         tensile_strength: f64,
     },
     /// Johnson & Cook (1983): σ_eq ≤ (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m), with
@@ -247,7 +249,8 @@ impl Strength {
             shear_modulus,
             surface: YieldSurface::DruckerPrager {
                 cohesion,
-                friction_angle: phi,
+                sin_friction: phi.sin(),
+                cos_friction: phi.cos(),
                 tensile_strength,
             },
         })
@@ -327,13 +330,14 @@ impl Strength {
             YieldSurface::JohnsonCook(jc) => jc.flow_stress(state),
             YieldSurface::DruckerPrager {
                 cohesion,
-                friction_angle,
+                sin_friction: sin,
+                cos_friction: cos,
                 tensile_strength,
+                ..
             } => {
                 if pressure < -tensile_strength {
                     return 0.0;
                 }
-                let (sin, cos) = friction_angle.sin_cos();
                 (6.0 * (cohesion * cos + pressure * sin) / (3.0 - sin)).max(0.0)
             }
         }
