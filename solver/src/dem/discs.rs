@@ -515,15 +515,17 @@ impl Discs {
         }
         self.force.iter_mut().for_each(|f| *f = Vector::zeros());
         self.torque.iter_mut().for_each(|t| *t = 0.0);
-        for p in 0..self.pairs.len() {
-            let pair = self.pairs[p];
-            self.pairs[p] = self.pair_force(pair, dt);
+        // the pairs are updated in place (they are large: a bridge carries its law's constants)
+        let mut pairs = std::mem::take(&mut self.pairs);
+        for pair in &mut pairs {
+            self.pair_force(pair, dt);
         }
+        self.pairs = pairs;
         self.wall_forces();
     }
 
-    /// The contact and bridge forces of one pair, added to both; returns its new state.
-    fn pair_force(&mut self, mut pair: Pair, dt: f64) -> Pair {
+    /// The contact and bridge forces of one pair, added to both; updates its state.
+    fn pair_force(&mut self, pair: &mut Pair, dt: f64) {
         let (i, j) = (pair.i as usize, pair.j as usize);
         let (ri, rj) = (self.radius[i], self.radius[j]);
         let d_vec = self.position[j] - self.position[i];
@@ -531,7 +533,7 @@ impl Discs {
         if pair.bridge.is_none() && d_vec.norm_squared() >= (ri + rj).powi(2) {
             pair.touching = false;
             pair.tangential = Vector::zeros();
-            return pair;
+            return;
         }
         let d = d_vec.norm();
         let normal = d_vec / d;
@@ -550,7 +552,7 @@ impl Discs {
             Vector::zeros()
         };
         let Some(w) = self.wetting.filter(|_| grain_pair) else {
-            return pair;
+            return;
         };
         // a standing bridge keeps its liquid; a new one forms at contact from the films
         if pair.bridge.is_none() && pair.touching && self.film[i] + self.film[j] > 0.0 {
@@ -562,18 +564,17 @@ impl Discs {
             self.film[i] *= 0.5;
             self.film[j] *= 0.5;
         }
-        let Some(bridge) = pair.bridge else {
-            return pair;
+        let Some(bridge) = &pair.bridge else {
+            return;
         };
         if gap < bridge.rupture_gap {
             let f = bridge.force(gap) * normal;
             self.force[i] += f;
             self.force[j] -= f;
         } else {
-            self.return_liquid(&pair);
+            self.return_liquid(pair);
             pair.bridge = None;
         }
-        pair
     }
 
     /// The contact force between overlapping i and j (overlap δ > 0, unit normal from i to
