@@ -86,10 +86,19 @@ impl<const D: usize> Domain<D> {
         })
     }
 
-    /// Appends images of every particle within `reach` of a wall or periodic side. Axes are done
-    /// in turn over real particles and the images made so far, which makes the corner images.
-    pub fn make_images(&self, particles: &mut Particles<D>, reach: f64) {
+    /// Appends the images of the particles that a real particle can reach across a wall or
+    /// periodic side, `reach[i]` being real particle i's kernel reach κ·h_i (an image reaches as
+    /// far as its source). Axes are done in turn over real particles and the images made so
+    /// far, which makes the corner images; every particle within the largest reach of a side is
+    /// imaged across it. An image is then kept only where it can pair with a real particle
+    /// ([`SideReach`]): a few particles with a large h (a blast's empty centre) need images
+    /// far from the side only near themselves, not along the whole side. The kept images keep
+    /// the order in which they were made.
+    pub fn make_images(&self, particles: &mut Particles<D>, reach: &[f64]) {
         particles.clear_images();
+        let n = particles.n_real();
+        assert_eq!(reach.len(), n);
+        let reach_max = reach.iter().cloned().fold(0.0, f64::max);
         for a in 0..D {
             let (lo, hi) = (self.lo[a], self.hi[a]);
             let periodic = self.lower[a] == Boundary::Periodic;
@@ -104,22 +113,47 @@ impl<const D: usize> Domain<D> {
                     particles.push_image(i, flip, along, is_wall);
                 };
                 if periodic {
-                    if x - lo < reach {
+                    if x - lo < reach_max {
                         image(Vector::repeat(1.0), hi - lo, false);
                     }
-                    if hi - x < reach {
+                    if hi - x < reach_max {
                         image(Vector::repeat(1.0), -(hi - lo), false);
                     }
                     continue;
                 }
-                if self.lower[a] == Boundary::Wall && x - lo < reach {
+                if self.lower[a] == Boundary::Wall && x - lo < reach_max {
                     image(mirror, 2.0 * lo, true);
                 }
-                if self.upper[a] == Boundary::Wall && hi - x < reach {
+                if self.upper[a] == Boundary::Wall && hi - x < reach_max {
                     image(mirror, 2.0 * hi, true);
                 }
             }
         }
+        if particles.len() == n {
+            return;
+        }
+        let sides: Vec<SideReach<D>> = self
+            .imaging_sides()
+            .map(|(axis, upper)| SideReach::new(self, axis, upper, &particles.position[..n], reach))
+            .collect();
+        let keep: Vec<bool> = (n..particles.len())
+            .map(|k| {
+                let x = &particles.position[k];
+                let own = reach[particles.real_index(k)];
+                sides.iter().all(|side| side.may_pair(x, own))
+            })
+            .collect();
+        particles.retain_images(&keep);
+    }
+
+    /// The sides that make images, as (axis, upper side).
+    fn imaging_sides(&self) -> impl Iterator<Item = (usize, bool)> + '_ {
+        (0..D).flat_map(move |a| {
+            [(false, self.lower[a]), (true, self.upper[a])]
+                .into_iter()
+                .filter(|(_, b)| matches!(b, Boundary::Wall | Boundary::Periodic))
+                .map(move |(upper, _)| (a, upper))
+        })
     }
 
     /// Moves real particles that crossed a periodic side back into the box.
@@ -185,10 +219,269 @@ impl<const D: usize> Domain<D> {
     }
 }
 
+/// How far beyond one side of the domain the real particles reach, mapped over the side: a
+/// grid of cells across the side's plane, each holding the largest depth κh_i − d_i beyond the
+/// plane of the real particles i (d_i inside it) whose kernel sphere crosses the plane over that
+/// cell. A point beyond the side inside the sphere of i lies at a depth below κh_i − d_i and
+/// over the disc of radius √((κh_i)² − d_i²) in which the sphere cuts the plane, so a point
+/// beyond the side that no real particle's sphere covers by this map, and that is farther from
+/// the side than its own reach, pairs with no real particle (a pair's reach, κ·max(h_i, h_j) or
+/// κ·(h_i + h_j)/2, is at most the larger of the two spheres').
+struct SideReach<const D: usize> {
+    axis: usize,
+    upper: bool,
+    plane: f64,
+    /// The cells span the other axes (axis `axis` has one cell).
+    origin: Vector<D>,
+    cell_size: f64,
+    dims: [usize; D],
+    depth: Vec<f64>,
+}
+
+impl<const D: usize> SideReach<D> {
+    fn new(
+        domain: &Domain<D>,
+        axis: usize,
+        upper: bool,
+        position: &[Vector<D>],
+        reach: &[f64],
+    ) -> Self {
+        let plane = if upper {
+            domain.hi[axis]
+        } else {
+            domain.lo[axis]
+        };
+        let inside = |x: &Vector<D>| {
+            if upper {
+                plane - x[axis]
+            } else {
+                x[axis] - plane
+            }
+        };
+        // (centre, depth beyond the plane, radius of the disc on it) of each crossing sphere
+        let crossing: Vec<(Vector<D>, f64, f64)> = position
+            .iter()
+            .zip(reach)
+            .filter_map(|(x, &r)| {
+                let d = inside(x).max(0.0);
+                (r > d).then(|| (*x, r - d, (r * r - d * d).sqrt()))
+            })
+            .collect();
+        let mut lo = Vector::<D>::repeat(f64::INFINITY);
+        let mut hi = Vector::<D>::repeat(f64::NEG_INFINITY);
+        for (x, _, radius) in &crossing {
+            lo = lo.inf(&x.add_scalar(-radius));
+            hi = hi.sup(&x.add_scalar(*radius));
+        }
+        let mut radii: Vec<f64> = crossing.iter().map(|c| c.2).collect();
+        let mut cell_size = if radii.is_empty() {
+            1.0
+        } else {
+            let middle = radii.len() / 2;
+            *radii.select_nth_unstable_by(middle, f64::total_cmp).1
+        };
+        let max_cells = (4 * crossing.len() + 64) as f64;
+        let dims = loop {
+            let per_axis: [f64; D] = std::array::from_fn(|a| {
+                if a == axis || crossing.is_empty() {
+                    1.0
+                } else {
+                    ((hi[a] - lo[a]) / cell_size).floor() + 1.0
+                }
+            });
+            if per_axis.iter().product::<f64>() <= max_cells {
+                break per_axis.map(|c| c as usize);
+            }
+            cell_size *= 2.0;
+        };
+        let mut map = Self {
+            axis,
+            upper,
+            plane,
+            origin: lo,
+            cell_size,
+            dims,
+            depth: vec![0.0; dims.iter().product()],
+        };
+        for (x, depth, radius) in &crossing {
+            let first = map.cell_of(&x.add_scalar(-radius));
+            let last = map.cell_of(&x.add_scalar(*radius));
+            let mut cell = first;
+            loop {
+                let c = map.linear_index(&cell);
+                map.depth[c] = map.depth[c].max(*depth);
+                // odometer increment over the box first..=last
+                let mut a = 0;
+                while a < D && cell[a] == last[a] {
+                    cell[a] = first[a];
+                    a += 1;
+                }
+                if a == D {
+                    break;
+                }
+                cell[a] += 1;
+            }
+        }
+        map
+    }
+
+    /// The cell over which `x` lies, clamped to the grid (axis `axis` ignored).
+    fn cell_of(&self, x: &Vector<D>) -> [usize; D] {
+        std::array::from_fn(|a| {
+            if a == self.axis {
+                0
+            } else {
+                let c = ((x[a] - self.origin[a]) / self.cell_size).floor();
+                (c.max(0.0) as usize).min(self.dims[a] - 1)
+            }
+        })
+    }
+
+    fn linear_index(&self, cell: &[usize; D]) -> usize {
+        (0..D).rev().fold(0, |acc, a| acc * self.dims[a] + cell[a])
+    }
+
+    /// Whether a particle at `x` with kernel reach `own` can pair with a real particle across
+    /// this side: always where `x` is not beyond it.
+    fn may_pair(&self, x: &Vector<D>, own: f64) -> bool {
+        let beyond = if self.upper {
+            x[self.axis] - self.plane
+        } else {
+            self.plane - x[self.axis]
+        };
+        if beyond <= 0.0 || beyond < own {
+            return true;
+        }
+        let inside_grid = (0..D).all(|a| {
+            a == self.axis
+                || (x[a] >= self.origin[a]
+                    && x[a] < self.origin[a] + self.dims[a] as f64 * self.cell_size)
+        });
+        inside_grid && beyond < self.depth[self.linear_index(&self.cell_of(x))]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::neighbours::{find_neighbours, PairReach};
     use crate::particles::{OptionalFields, ParticleInit};
+    use proptest::prelude::*;
+
+    /// An image as (source, sign per axis, shift per axis in quarters of the box).
+    type ImageKey = (u32, [i8; 2], [i64; 2]);
+
+    fn key(source: u32, sign: &Vector<2>, shift: &Vector<2>) -> ImageKey {
+        (
+            source,
+            [sign[0] as i8, sign[1] as i8],
+            [
+                (4.0 * shift[0]).round() as i64,
+                (4.0 * shift[1]).round() as i64,
+            ],
+        )
+    }
+
+    /// Every image the unit box can make of each particle, without any reach test: mirrors
+    /// across each wall (and both walls' corners) and copies shifted by ±1 along a periodic
+    /// axis, as (key, position).
+    fn every_image(domain: &Domain<2>, x: &[Vector<2>]) -> Vec<(ImageKey, Vector<2>)> {
+        let per_axis = |a: usize| -> Vec<(f64, f64)> {
+            match domain.lower[a] {
+                Boundary::Periodic => vec![(1.0, 0.0), (1.0, 1.0), (1.0, -1.0)],
+                _ => vec![(1.0, 0.0), (-1.0, 0.0), (-1.0, 2.0)],
+            }
+        };
+        let mut images = Vec::new();
+        for (j, xj) in x.iter().enumerate() {
+            for &(s0, t0) in &per_axis(0) {
+                for &(s1, t1) in &per_axis(1) {
+                    if (s0, t0, s1, t1) == (1.0, 0.0, 1.0, 0.0) {
+                        continue;
+                    }
+                    let sign = Vector::<2>::new(s0, s1);
+                    let shift = Vector::<2>::new(t0, t1);
+                    images.push((
+                        key(j as u32, &sign, &shift),
+                        xj.component_mul(&sign) + shift,
+                    ));
+                }
+            }
+        }
+        images
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The images kept give every real particle the same image partners as every image the
+        /// box can make: mirror walls on both axes, or a wall and a periodic axis; h varies
+        /// fourfold, and a few particles have an h ten times the rest (a blast's centre).
+        #[test]
+        fn kept_images_are_every_image_a_real_particle_reaches(
+            coords in proptest::collection::vec(0.0f64..1.0, 120),
+            hs in proptest::collection::vec(0.02f64..0.08, 60),
+            large in proptest::collection::vec(0usize..60, 0..3),
+            periodic in any::<bool>(),
+            larger_h in any::<bool>(),
+        ) {
+            let x: Vec<Vector<2>> =
+                coords.chunks_exact(2).map(|c| Vector::<2>::new(c[0], c[1])).collect();
+            let mut h = hs.clone();
+            for &k in &large {
+                h[k] = 0.3;
+            }
+            let domain = Domain::new(
+                Vector::<2>::zeros(),
+                Vector::<2>::repeat(1.0),
+                [Boundary::Wall, if periodic { Boundary::Periodic } else { Boundary::Wall }],
+            );
+            let pair_reach = if larger_h { PairReach::LargerH } else { PairReach::MeanH };
+            let support = 2.0;
+            let init: Vec<ParticleInit<2>> = x
+                .iter()
+                .zip(&h)
+                .map(|(x, &h)| ParticleInit {
+                    position: *x,
+                    velocity: Vector::zeros(),
+                    mass: 1.0,
+                    smoothing_length: h,
+                    density: 1.0,
+                    internal_energy: 1.0,
+                    material: 0,
+                })
+                .collect();
+            let mut p = Particles::new(&init, OptionalFields::default());
+            let n = x.len();
+            let reach: Vec<f64> = h.iter().map(|h| support * h).collect();
+            domain.make_images(&mut p, &reach);
+            let searched: Vec<f64> = (0..p.len()).map(|k| h[p.real_index(k)]).collect();
+            let lists = find_neighbours(&p.position, &searched, support, pair_reach, n);
+            let candidates = every_image(&domain, &x);
+            for i in 0..n {
+                let mut found: Vec<ImageKey> = lists
+                    .of(i)
+                    .filter_map(|k| p.image(k))
+                    .map(|im| key(im.source, &im.velocity_sign, &im.shift))
+                    .collect();
+                found.sort_unstable();
+                let mut expected: Vec<ImageKey> = candidates
+                    .iter()
+                    .filter(|(k, xj)| {
+                        let (hi, hj) = (h[i], h[k.0 as usize]);
+                        let r = match pair_reach {
+                            PairReach::LargerH => support * hi.max(hj),
+                            PairReach::MeanH => 0.5 * support * (hi + hj),
+                        };
+                        (xj - x[i]).norm() < r
+                    })
+                    .map(|(k, _)| *k)
+                    .collect();
+                expected.sort_unstable();
+                prop_assert_eq!(found, expected, "particle {}", i);
+            }
+        }
+    }
 
     /// A particle that crossed the lower wall comes back mirrored with its normal velocity
     /// reversed, and the wall books the impulse 2 m |v_n| along its inward normal.

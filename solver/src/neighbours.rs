@@ -314,12 +314,20 @@ fn owned_lists<const D: usize>(
                     .map(|&i| support * smoothing_length[i as usize])
                     .fold(0.0, f64::max);
                 let rings = (cell_reach / grid.cell_size).ceil().max(1.0) as usize;
+                // a cell of images only pairs with queried particles: the others are left out
+                // of its candidates, and a cell with none around it has nothing to find
+                let images_only = members.iter().all(|&i| i as usize >= n_query);
                 candidates.clear(grid.centre(cell));
                 grid.for_each_cell_around(&grid.coordinates(cell), rings, |c| {
                     for &j in grid.members_of(c) {
-                        candidates.push(j, &positions[j as usize]);
+                        if !images_only || (j as usize) < n_query {
+                            candidates.push(j, &positions[j as usize]);
+                        }
                     }
                 });
+                if candidates.is_empty() {
+                    continue;
+                }
                 for &i in members {
                     let start = indices.len() as u32;
                     candidates.collect_owned(
@@ -428,6 +436,10 @@ impl<const D: usize> CandidateBuffer<D> {
         self.origin = origin;
         self.index.clear();
         self.coarse.iter_mut().for_each(Vec::clear);
+    }
+
+    fn is_empty(&self) -> bool {
+        self.index.is_empty()
     }
 
     fn push(&mut self, index: u32, position: &Vector<D>) {

@@ -146,6 +146,26 @@ impl FieldVisitor for Truncate {
     }
 }
 
+/// Keeps a field's real entries and the images marked in `keep` (fields that images do not
+/// carry are left alone).
+struct RetainImages<'a> {
+    n_real: usize,
+    keep: &'a [bool],
+}
+
+impl FieldVisitor for RetainImages<'_> {
+    fn visit<T: Copy>(&mut self, field: &mut Vec<T>) {
+        if field.len() > self.n_real {
+            let mut index = 0;
+            field.retain(|_| {
+                let kept = index < self.n_real || self.keep[index - self.n_real];
+                index += 1;
+                kept
+            });
+        }
+    }
+}
+
 /// Reorders every present field so that new index k holds old index `order[k]`.
 struct Reorder<'a>(&'a [usize]);
 
@@ -360,6 +380,17 @@ impl<const D: usize> Particles<D> {
             shift: total_shift,
             is_wall: wall,
         });
+    }
+
+    /// Keeps image k (the k-th made) where `keep[k]`, the kept ones in their order.
+    pub fn retain_images(&mut self, keep: &[bool]) {
+        assert_eq!(keep.len(), self.images.len());
+        self.visit_all(&mut RetainImages {
+            n_real: self.n_real,
+            keep,
+        });
+        let mut kept = keep.iter();
+        self.images.retain(|_| *kept.next().unwrap());
     }
 
     /// Copies the state of every real particle onto its images (seen through their mirrors).

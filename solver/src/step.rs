@@ -1384,9 +1384,11 @@ impl<const D: usize> Simulation<D> {
             .iter()
             .map(|h| h * (1.0 + self.config.neighbour_skin))
             .collect();
-        let h_max = widened.iter().cloned().fold(0.0, f64::max);
-        self.domain
-            .make_images(p, self.kernel.support_radius(h_max));
+        let reach: Vec<f64> = widened
+            .iter()
+            .map(|&h| self.kernel.support_radius(h))
+            .collect();
+        self.domain.make_images(p, &reach);
         let searched: Vec<f64> = (0..p.len()).map(|k| widened[p.real_index(k)]).collect();
         self.neighbours = find_neighbours(
             &p.position,

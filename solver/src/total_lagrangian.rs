@@ -120,11 +120,11 @@ impl<const D: usize> ReferenceConfiguration<D> {
     ) -> Result<Self, SolverError> {
         let n = particles.n_real();
         let mut reference = particles.clone();
-        let h_max = reference.smoothing_length[..n]
+        let reach: Vec<f64> = reference.smoothing_length[..n]
             .iter()
-            .cloned()
-            .fold(0.0, f64::max);
-        domain.make_images(&mut reference, kernel.support_radius(h_max));
+            .map(|&h| kernel.support_radius(h))
+            .collect();
+        domain.make_images(&mut reference, &reach);
         let x = &reference.position;
         let h = &reference.smoothing_length;
         let neighbours = find_neighbours(x, h, kernel.shape().support(), PairReach::MeanH, n);
