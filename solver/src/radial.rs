@@ -485,7 +485,7 @@ impl ShellPairs {
             .with_min_len(pairs::PARTICLES_PER_TASK)
             .map(|&i| {
                 let (r_i, h_i) = (p.position[i][0], p.smoothing_length[i]);
-                let mut list = Vec::new();
+                let mut list = Vec::with_capacity(neighbours.partners(i).len());
                 neighbours.visit(i, |j, _| {
                     let (r_j, h) = (p.position[j][0], 0.5 * (h_i + p.smoothing_length[j]));
                     if kernel.reaches(r_i, r_j, h) {

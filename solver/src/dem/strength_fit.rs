@@ -61,5 +61,19 @@ mod tests {
         assert!((fit.cohesion - c).abs() < 1e-9 * c);
         assert!((fit.friction_angle_degrees - 30.0).abs() < 1e-9);
         assert!(fit_mohr_coulomb(&states[..1]).is_err());
+        // two confining stresses fix the line exactly
+        let two = fit_mohr_coulomb(&states[1..]).unwrap();
+        assert!((two.cohesion - c).abs() < 1e-9 * c);
+        assert!((two.friction_angle_degrees - 30.0).abs() < 1e-9);
+    }
+
+    /// Failure states at one confining stress admit no line: the error names them, not the
+    /// slope that a division by zero would leave undefined.
+    #[test]
+    fn one_confining_stress_is_refused_by_name() {
+        for states in [vec![(1e3, 4e3), (1e3, 5e3), (1e3, 4.5e3)], vec![(1e3, 4e3)]] {
+            let message = fit_mohr_coulomb(&states).unwrap_err().to_string();
+            assert!(message.contains("failure states"), "{message}");
+        }
     }
 }
