@@ -18,7 +18,7 @@ const DEEPEST: u32 = 20;
 const NEIGHBOUR_STEP_RATIO: u64 = 4;
 
 /// The hierarchy of one block.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BlockSteps {
     /// The times at the block's start and end (s).
     start_time: f64,

@@ -12,7 +12,7 @@ use crate::Vector;
 /// particles the kernel needs to carry a jump without ringing.
 pub const DEFAULT_RAMP_LENGTHS: f64 = 2.0;
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ProgrammedBurn {
     /// Lighting time of each particle (in the order of the particles given to the simulation);
     /// −∞ for particles that are not explosive (they carry their full pressure throughout).

@@ -40,8 +40,8 @@ pub use physics::{
 };
 pub use radial::Geometry;
 pub use step::{
-    ArtificialHeating, InitialState, PhaseTimes, PrescribedMotion, Simulation, SimulationConfig,
-    TimeSteps,
+    ArtificialHeating, Checkpoint, InitialState, PhaseTimes, PrescribedMotion, Simulation,
+    SimulationConfig, TimeSteps,
 };
 pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
 

@@ -39,7 +39,7 @@ impl PairReach {
 }
 
 /// Neighbour lists, each in ascending index order.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighbourList {
     /// Particle i's partners are `partners[offsets[i]..offsets[i + 1]]`.
     offsets: Vec<usize>,

@@ -8,7 +8,7 @@ use crate::{Tensor, Vector};
 
 /// How an image particle derives from its real source: where it stands and which velocity
 /// components flip.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Image<const D: usize> {
     pub source: u32,
     /// +1 or −1 per axis (−1 where the image is a mirror across a wall normal to that axis):
@@ -31,7 +31,7 @@ macro_rules! particle_store {
         imaged { $( $(#[$imaged_doc:meta])* $imaged:ident : $imaged_type:ty => $seen:expr, )* }
         real { $( $(#[$real_doc:meta])* $real:ident : $real_type:ty, )* }
     ) => {
-        #[derive(Clone, Debug, Default)]
+        #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
         pub struct Particles<const D: usize> {
             /// Positions of real particles and images (an image's is set by its boundary).
             pub position: Vec<Vector<D>>,

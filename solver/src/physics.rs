@@ -798,7 +798,7 @@ impl PairKernel {
 
 /// A pair within the kernel's reach, as the rate passes see it: the distance and dW/dr for
 /// i's side and for j's ([`PairKernel::derivatives`]).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct KernelLink {
     pub r: f64,
     pub dw_i: f64,
@@ -811,7 +811,7 @@ pub struct KernelLink {
 /// with r = 0 or both derivatives zero, which every such pass skips, are left out; kept lists'
 /// partners beyond the kernel's reach are among them. Partners for the pair driver. Rebuilt in
 /// place at every rate evaluation, so that its buffers are allocated once.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct KernelPairs {
     /// The pairs of particles `PAIR_CHUNK·c..PAIR_CHUNK·(c + 1)`, end to end, in chunk c.
     chunks: Vec<Vec<(u32, KernelLink)>>,
@@ -875,7 +875,7 @@ impl pairs::Partners for KernelPairs {
 }
 
 /// Sums over the real particles that the rate loops return beside the per-particle rates.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RateTotals<const D: usize> {
     /// The force the walls exert on the particles (N).
     pub wall_force: Vector<D>,

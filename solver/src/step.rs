@@ -181,7 +181,7 @@ pub struct PhaseTimes {
 /// the time integral of its power in [`RateTotals`] by the trapezoid rule, as the kicks
 /// integrate the internal energy: with the kinetic energy and the energies the state holds
 /// (elastic, plastic work) it closes the energy balance term by term.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ArtificialHeating {
     /// The artificial viscosity's heating, never negative.
     pub viscosity: f64,
@@ -196,7 +196,7 @@ pub struct ArtificialHeating {
 const REORDER_INTERVAL: u64 = 16;
 
 /// Values at the half step, kept between the drift and the closing kick.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct HalfStep<const D: usize> {
     velocity: Vec<Vector<D>>,
     internal_energy: Vec<f64>,
@@ -248,9 +248,40 @@ pub struct Simulation<const D: usize> {
     kernel_pairs: physics::KernelPairs,
 }
 
+/// A simulation's state between two steps (see [`Simulation::checkpoint`]); serde writes it
+/// in any format that keeps every bit of a float, infinities included (a binary one).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Checkpoint<const D: usize> {
+    setup: String,
+    particles: Particles<D>,
+    neighbours: NeighbourList,
+    half: HalfStep<D>,
+    time: f64,
+    steps: u64,
+    particle_updates: u64,
+    totals: RateTotals<D>,
+    wall_impulse: Vector<D>,
+    heating: ArtificialHeating,
+    transmitted_energy: f64,
+    repeated_searches: u64,
+    neighbour_searches: u64,
+    burn: Option<ProgrammedBurn>,
+    reference: Option<ReferenceConfiguration<D>>,
+    blocks: Option<BlockSteps>,
+    list_origin: ListOrigin<D>,
+    kernel_pairs: physics::KernelPairs,
+}
+
+impl<const D: usize> Checkpoint<D> {
+    /// The simulated time it was taken at (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+}
+
 /// Where the real particles were when the kept neighbour lists were searched, and the h each
 /// was searched with (its own, widened by the skin).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct ListOrigin<const D: usize> {
     position: Vec<Vector<D>>,
     searched_h: Vec<f64>,
@@ -615,6 +646,96 @@ impl<const D: usize> Simulation<D> {
     /// external accelerations (J; negative where they did work on the particles).
     pub fn transmitted_energy(&self) -> f64 {
         self.transmitted_energy
+    }
+
+    /// Everything a run carries from one step to the next: the particles (images included),
+    /// the kept neighbour lists, the half-step state, the clocks, counters and ledgers, the
+    /// block-step hierarchy. A simulation built again from the same inputs and given it with
+    /// [`Simulation::resume`] continues bitwise as this one would have.
+    pub fn checkpoint(&self) -> Checkpoint<D> {
+        Checkpoint {
+            setup: self.setup_fingerprint(),
+            particles: self.particles.clone(),
+            neighbours: self.neighbours.clone(),
+            half: self.half.clone(),
+            time: self.time,
+            steps: self.steps,
+            particle_updates: self.particle_updates,
+            totals: self.totals,
+            wall_impulse: self.wall_impulse,
+            heating: self.heating,
+            transmitted_energy: self.transmitted_energy,
+            repeated_searches: self.repeated_searches,
+            neighbour_searches: self.neighbour_searches,
+            burn: self.burn.clone(),
+            reference: self.reference.clone(),
+            blocks: self.blocks.clone(),
+            list_origin: self.list_origin.clone(),
+            kernel_pairs: self.kernel_pairs.clone(),
+        }
+    }
+
+    /// Continues from `checkpoint`, taken of a simulation built from the same materials,
+    /// domain, configuration and particle count; anything else is refused by name.
+    pub fn resume(&mut self, checkpoint: Checkpoint<D>) -> Result<(), SolverError> {
+        if checkpoint.setup != self.setup_fingerprint() {
+            return Err(SolverError::invalid(
+                "checkpoint",
+                "taken of another setup",
+                "a checkpoint of a simulation with the same materials, domain and configuration",
+            ));
+        }
+        if checkpoint.particles.n_real() != self.particles.n_real() {
+            return Err(SolverError::invalid(
+                "checkpoint particles",
+                checkpoint.particles.n_real(),
+                &format!("the simulation's {}", self.particles.n_real()),
+            ));
+        }
+        let Checkpoint {
+            setup: _,
+            particles,
+            neighbours,
+            half,
+            time,
+            steps,
+            particle_updates,
+            totals,
+            wall_impulse,
+            heating,
+            transmitted_energy,
+            repeated_searches,
+            neighbour_searches,
+            burn,
+            reference,
+            blocks,
+            list_origin,
+            kernel_pairs,
+        } = checkpoint;
+        self.particles = particles;
+        self.neighbours = neighbours;
+        self.half = half;
+        self.time = time;
+        self.steps = steps;
+        self.particle_updates = particle_updates;
+        self.totals = totals;
+        self.wall_impulse = wall_impulse;
+        self.heating = heating;
+        self.transmitted_energy = transmitted_energy;
+        self.repeated_searches = repeated_searches;
+        self.neighbour_searches = neighbour_searches;
+        self.burn = burn;
+        self.reference = reference;
+        self.blocks = blocks;
+        self.list_origin = list_origin;
+        self.kernel_pairs = kernel_pairs;
+        Ok(())
+    }
+
+    /// The inputs a checkpoint must be resumed with, written out in full (Rust's `Debug` of a
+    /// float round-trips, so equal text means equal values).
+    fn setup_fingerprint(&self) -> String {
+        format!("{:?}|{:?}|{:?}", self.materials, self.domain, self.config)
     }
 
     /// Advances to `t_end`, calling `progress(t)` after each step.

@@ -49,7 +49,7 @@ use crate::strength::{equivalent_strain_rate, jaumann_rate};
 use crate::{SolverError, Tensor, Vector};
 
 /// One neighbour j of a particle i in the reference configuration.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 struct Bond<const D: usize> {
     /// The real particle j is, or whose mirror image it is.
     other: u32,
@@ -70,7 +70,7 @@ struct Bond<const D: usize> {
 
 /// The reference configuration: each particle's bonds, volume, density, correction matrix
 /// and smoothing length, fixed for the run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ReferenceConfiguration<const D: usize> {
     offsets: Vec<usize>,
     bonds: Vec<Bond<D>>,

@@ -192,6 +192,59 @@ fn kept_neighbour_lists_change_no_result() {
     );
 }
 
+/// Runs `build` 30 steps straight, and again as 11 steps, a checkpoint written to bytes, a
+/// fresh simulation from the same inputs resumed from those bytes, and 19 more steps: the two
+/// final states (every particle field, images, kept lists, clocks and ledgers) must be the same
+/// bytes. The first part ends between neighbour searches and between reorderings (every 16
+/// steps), so the kept lists and the particle order must travel in the checkpoint.
+fn resumed_run_continues_bitwise<const D: usize>(case: &str, build: impl Fn() -> Simulation<D>) {
+    let steps = |sim: &mut Simulation<D>, n: usize| {
+        for _ in 0..n {
+            let dt = sim.stable_time_step().unwrap();
+            sim.step(dt).unwrap();
+        }
+    };
+    let mut straight = build();
+    steps(&mut straight, 30);
+    let mut first = build();
+    steps(&mut first, 11);
+    let bytes = bincode::serialize(&first.checkpoint()).unwrap();
+    drop(first);
+    let mut resumed = build();
+    resumed
+        .resume(bincode::deserialize(&bytes).unwrap())
+        .unwrap();
+    steps(&mut resumed, 19);
+    assert_eq!(resumed.steps(), 30, "{case}");
+    let end = |sim: &Simulation<D>| bincode::serialize(&sim.checkpoint()).unwrap();
+    assert!(
+        end(&straight) == end(&resumed),
+        "{case}: the resumed run differs"
+    );
+}
+
+#[test]
+fn a_run_resumed_from_a_checkpoint_continues_bitwise() {
+    resumed_run_continues_bitwise::<2>("2D walls", || {
+        gas_box(16, Boundary::Wall, SimulationConfig::default())
+    });
+    resumed_run_continues_bitwise::<3>("3D periodic, grad-h", || {
+        gas_box(6, Boundary::Periodic, grad_h(GRAD_H_TOLERANCE))
+    });
+}
+
+/// A checkpoint is refused by a simulation of other inputs, naming what differs.
+#[test]
+fn a_checkpoint_of_other_inputs_is_refused() {
+    let sim = gas_box::<2>(8, Boundary::Wall, SimulationConfig::default());
+    let mut other_boundary = gas_box::<2>(8, Boundary::Periodic, SimulationConfig::default());
+    let err = other_boundary.resume(sim.checkpoint()).unwrap_err();
+    assert!(err.to_string().contains("checkpoint"), "{err}");
+    let mut other_count = gas_box::<2>(9, Boundary::Wall, SimulationConfig::default());
+    let err = other_count.resume(sim.checkpoint()).unwrap_err();
+    assert!(err.to_string().contains("checkpoint particles"), "{err}");
+}
+
 #[test]
 fn periodic_box_gets_no_wall_impulse() {
     let mut sim = gas_box::<2>(16, Boundary::Periodic, SimulationConfig::default());

@@ -541,6 +541,31 @@ fn individual_time_steps_are_deterministic_across_thread_counts() {
     }
 }
 
+/// A run with individual time steps resumed from a checkpoint (written to bytes, read into a
+/// simulation built again) continues bitwise as the run that was not stopped: between two
+/// steps the half-step values of the particles still in flight travel with it.
+#[test]
+fn individual_time_steps_resume_from_a_checkpoint_bitwise() {
+    let config = stepped(TimeSteps::Individual { max_ratio: 64 });
+    let steps = |sim: &mut Simulation<1>, n: usize| {
+        for _ in 0..n {
+            sim.step_toward(0.02).unwrap();
+        }
+    };
+    let mut straight = hot_core(200, config);
+    steps(&mut straight, 60);
+    let mut first = hot_core(200, config);
+    steps(&mut first, 23);
+    let bytes = bincode::serialize(&first.checkpoint()).unwrap();
+    let mut resumed = hot_core(200, config);
+    resumed
+        .resume(bincode::deserialize(&bytes).unwrap())
+        .unwrap();
+    steps(&mut resumed, 37);
+    let end = |sim: &Simulation<1>| bincode::serialize(&sim.checkpoint()).unwrap();
+    assert!(end(&straight) == end(&resumed));
+}
+
 /// Individual time steps are refused by name where they are not built: Cartesian scenes, a
 /// ratio that is not a power of two, and a step of a given length.
 #[test]
