@@ -6,7 +6,7 @@ use blastsph_verification::impedance::{self, Drive};
 use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
 use blastsph_verification::riemann::{self, GasState};
-use blastsph_verification::scene::{self, Scene};
+use blastsph_verification::scene::{self, Checkpoints, Scene};
 use blastsph_verification::sedov::{geometry_named, SedovBlast};
 use blastsph_verification::{index, problems, report, tunnel, Level, VerifyError};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -85,6 +85,12 @@ enum Command {
         /// Run the cases even where a gate failed, every output stamped NOT VALIDATED.
         #[arg(long)]
         accept_unvalidated: bool,
+        /// Go on with the study in DIR (instead of --out): finished cases are kept, a run that
+        /// was stopped resumes from its last checkpoint, bitwise as if never stopped.
+        #[arg(long, value_name = "DIR", conflicts_with = "out")]
+        restart: Option<PathBuf>,
+        #[command(flatten)]
+        checkpoints: CheckpointArgs,
     },
     /// Run a scene file (TOML; see `scenes/` and the README): gauge histories (CSV), per
     /// material momentum and energy, particle snapshots (VTU with a .pvd index) and
@@ -98,6 +104,12 @@ enum Command {
         /// Worker threads (default: all cores). Results do not depend on it.
         #[arg(long)]
         threads: Option<usize>,
+        /// Resume the run in DIR (instead of --out) from its last checkpoint: its outputs are
+        /// bitwise those of a run that was never stopped.
+        #[arg(long, value_name = "DIR", conflicts_with = "out")]
+        restart: Option<PathBuf>,
+        #[command(flatten)]
+        checkpoints: CheckpointArgs,
     },
     /// The exact Sedov–Taylor blast: shock radius, post-shock state, similarity constant.
     Sedov {
@@ -301,6 +313,34 @@ impl From<LevelArg> for Level {
     }
 }
 
+/// How often a long run keeps a checkpoint of itself.
+#[derive(clap::Args, Debug)]
+struct CheckpointArgs {
+    /// Wall-clock minutes between two checkpoints of a run (kept in its folder as
+    /// checkpoint.bin, removed when the run finishes).
+    #[arg(long, value_name = "MINUTES", default_value_t = 5.0)]
+    checkpoint_minutes: f64,
+}
+
+impl CheckpointArgs {
+    /// The policy: checkpoints at the interval, resumed from where `resume`.
+    fn policy(&self, resume: bool) -> Result<Checkpoints, VerifyError> {
+        let minutes = self.checkpoint_minutes;
+        if !(minutes > 0.0 && minutes.is_finite()) {
+            return Err(VerifyError::bad_value(
+                "--checkpoint-minutes",
+                minutes,
+                "finite and > 0",
+            ));
+        }
+        Ok(Checkpoints {
+            every_s: Some(60.0 * minutes),
+            resume,
+            context: String::new(),
+        })
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -323,7 +363,11 @@ fn main() -> ExitCode {
             scene,
             out,
             threads,
-        } => run_scene(&scene, out, threads),
+            restart,
+            checkpoints,
+        } => checkpoints
+            .policy(restart.is_some())
+            .and_then(|policy| run_scene(&scene, restart.or(out), threads, &policy)),
         Command::Tunnel {
             depths,
             charges,
@@ -333,7 +377,17 @@ fn main() -> ExitCode {
             level,
             out,
             accept_unvalidated,
+            restart,
+            checkpoints,
         } => {
+            let policy = match checkpoints.policy(restart.is_some()) {
+                Ok(policy) => policy,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            };
+            let out = restart.unwrap_or(out);
             let request = tunnel::StudyRequest {
                 depths_m: depths,
                 charges_kg: charges,
@@ -345,7 +399,7 @@ fn main() -> ExitCode {
                 },
                 level: level.into(),
             };
-            return match tunnel_command(&request, accept_unvalidated, &out) {
+            return match tunnel_command(&request, accept_unvalidated, &out, &policy) {
                 Ok(Some(true)) => ExitCode::SUCCESS,
                 Ok(Some(false)) => ExitCode::from(1),
                 Ok(None) => ExitCode::from(3),
@@ -457,6 +511,7 @@ fn tunnel_command(
     request: &tunnel::StudyRequest,
     accept_unvalidated: bool,
     out: &Path,
+    checkpoints: &Checkpoints,
 ) -> Result<Option<bool>, VerifyError> {
     tunnel::validate(request)?;
     report::ensure_writable(out)?;
@@ -473,10 +528,16 @@ fn tunnel_command(
         ProgressStyle::with_template("{msg:24} [{bar:40}] {percent:>3}% eta {eta}")
             .expect("valid template"),
     );
-    let outcome = tunnel::run_study(request, accept_unvalidated, out, &|name, f| {
-        bar.set_message(name.to_string());
-        bar.set_position((f * 1000.0) as u64);
-    })?;
+    let outcome = tunnel::run_study(
+        request,
+        accept_unvalidated,
+        out,
+        &|name, f| {
+            bar.set_message(name.to_string());
+            bar.set_position((f * 1000.0) as u64);
+        },
+        checkpoints,
+    )?;
     bar.finish_and_clear();
     let study = match outcome {
         tunnel::Outcome::GateFailed(gate) => {
@@ -536,6 +597,7 @@ fn run_scene(
     path: &Path,
     out: Option<PathBuf>,
     threads: Option<usize>,
+    checkpoints: &Checkpoints,
 ) -> Result<bool, VerifyError> {
     let text = std::fs::read_to_string(path).map_err(|source| VerifyError::Io {
         path: path.display().to_string(),
@@ -550,15 +612,29 @@ fn run_scene(
         Path::new("results").join(stem)
     });
     report::ensure_writable(&out)?;
+    let checkpoint = out.join(scene::CHECKPOINT_FILE);
+    if checkpoints.resume && !checkpoint.exists() {
+        return Err(VerifyError::bad_value(
+            "--restart",
+            out.display(),
+            &format!(
+                "a folder holding a stopped run's {} (a finished run removes its own)",
+                scene::CHECKPOINT_FILE
+            ),
+        ));
+    }
     set_threads(threads)?;
     let bar = ProgressBar::new(1000).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {percent}% ({elapsed} elapsed, ETA {eta})")
             .expect("a valid template"),
     );
     bar.set_message(scene.name.clone());
-    let summary = scene::run(&scene, &out, &mut |fraction| {
-        bar.set_position((fraction * 1000.0) as u64)
-    })?;
+    let summary = scene::run_checkpointed(
+        &scene,
+        &out,
+        &mut |fraction| bar.set_position((fraction * 1000.0) as u64),
+        checkpoints,
+    )?;
     bar.finish_and_clear();
     let energy = match summary.energy_relative_change {
         Some(relative) => format!("{relative:.2e} of the initial energy"),

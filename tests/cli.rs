@@ -899,3 +899,88 @@ fn the_tunnel_study_refuses_bad_requests_by_name() {
         assert!(!dir.exists(), "{args:?} wrote its folder");
     }
 }
+
+/// A scene run killed after it kept a checkpoint and resumed with `--restart` (on one thread,
+/// the killed run had two) writes bitwise the outputs of a run that was never stopped (the
+/// summary's wall time aside) and removes its checkpoint; `--restart` on a folder without a
+/// checkpoint exits 2 naming the option.
+#[test]
+fn a_killed_run_resumed_with_restart_writes_the_uninterrupted_outputs() {
+    let dir = scratch("scene-restart");
+    std::fs::create_dir_all(&dir).unwrap();
+    // the shipped Taylor bar's first 20 µs, a snapshot every 5 µs
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor-bar.toml");
+    let text = std::fs::read_to_string(shipped)
+        .unwrap()
+        .replace("end_time = 80e-6", "end_time = 20e-6")
+        .replace("output_interval = 10e-6", "output_interval = 5e-6");
+    assert!(text.contains("end_time = 20e-6") && text.contains("output_interval = 5e-6"));
+    let scene = dir.join("bar.toml");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.to_str().unwrap();
+    let (straight, stopped) = (dir.join("straight"), dir.join("stopped"));
+    let out = blastsph(&["run", scene, "--out", straight.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["run", scene, "--out", stopped.to_str().unwrap()])
+        .args(["--threads", "2", "--checkpoint-minutes", "0.001"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("binary runs");
+    let checkpoint = stopped.join("checkpoint.bin");
+    let started = std::time::Instant::now();
+    while !checkpoint.exists() {
+        assert!(started.elapsed().as_secs() < 120, "no checkpoint written");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !stopped.join("scene.json").exists(),
+        "the run finished before it was killed"
+    );
+    let out = blastsph(&[
+        "run",
+        scene,
+        "--restart",
+        stopped.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(!checkpoint.exists());
+    let files = |root: &Path| {
+        let mut found = std::collections::BTreeMap::new();
+        let mut pending = vec![root.to_path_buf()];
+        while let Some(folder) = pending.pop() {
+            for entry in std::fs::read_dir(folder).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    pending.push(path);
+                    continue;
+                }
+                let mut bytes = std::fs::read(&path).unwrap();
+                if path.ends_with("scene.json") {
+                    let mut summary: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+                    summary["wall_s"] = serde_json::Value::Null;
+                    bytes = summary.to_string().into_bytes();
+                }
+                let name = path.strip_prefix(root).unwrap().display().to_string();
+                found.insert(name, bytes);
+            }
+        }
+        found
+    };
+    let (a, b) = (files(&straight), files(&stopped));
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    assert!(a.contains_key("snapshots/4.vtu"), "{:?}", a.keys());
+    for (name, bytes) in &a {
+        assert!(*bytes == b[name], "{name} differs");
+    }
+
+    let out = blastsph(&["run", scene, "--restart", straight.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("--restart"), "{}", stderr(&out));
+}

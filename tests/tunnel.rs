@@ -1,5 +1,6 @@
 //! The tunnel study's quick model on the case the issue names for review: 10 m below 500 kg.
 
+use blastsph_verification::scene::Checkpoints;
 use blastsph_verification::tunnel::{run_charge, Soil, Tunnel, QUICK};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -64,6 +65,7 @@ fn the_10m_500kg_quick_case_matches_its_reviewed_curves() {
         QUICK,
         &out,
         &|_, _| {},
+        &Checkpoints::default(),
     )
     .expect("the case runs")
     .remove(0);

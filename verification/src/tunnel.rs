@@ -23,7 +23,7 @@
 use crate::gate::{run_gate, GateRequest};
 use crate::problems::ground_shock::soil_model;
 use crate::record::Check;
-use crate::scene::{particles, run_with, RunSummary, Scene};
+use crate::scene::{particles, run_with, Checkpoints, Observer, RunSummary, Scene};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
@@ -327,7 +327,7 @@ position = [0.0, {invert_z}]
 }
 
 /// Velocity histories of chosen free-field particles, recorded after every step.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 struct Recording {
     /// Free-field particle ids recorded, in the order of `velocities`' columns.
     ids: Vec<u32>,
@@ -432,30 +432,16 @@ fn band_sources(
     Ok(sources)
 }
 
-/// The velocities of `ids` after every step of `scene`'s run (from rest at t = 0: the ground
-/// starts held in its geostatic state), and the run's summary.
-fn record_free_field(
-    scene: &Scene,
-    ids: Vec<u32>,
-    out: &Path,
-    progress: &mut dyn FnMut(f64),
-) -> Result<(Recording, RunSummary), VerifyError> {
-    let mut recording = Recording {
-        times: vec![0.0],
-        velocities: vec![vec![[0.0; 2]; ids.len()]],
-        ids,
-    };
-    let mut index_of = Vec::new();
-    let mut record = |sim: &Simulation<2>| {
+impl Observer<2> for Recording {
+    fn observe(&mut self, sim: &Simulation<2>) {
         let p = sim.particles();
-        index_of.resize(p.n_real(), 0);
+        let mut index_of = vec![0; p.n_real()];
         for i in 0..p.n_real() {
             index_of[p.id[i] as usize] = i;
         }
-        recording.times.push(sim.time());
-        recording.velocities.push(
-            recording
-                .ids
+        self.times.push(sim.time());
+        self.velocities.push(
+            self.ids
                 .iter()
                 .map(|&id| {
                     let v = p.velocity[index_of[id as usize]];
@@ -463,8 +449,35 @@ fn record_free_field(
                 })
                 .collect(),
         );
+    }
+}
+
+/// The velocities of `ids` after every step of `scene`'s run (from rest at t = 0: the ground
+/// starts held in its geostatic state), and the run's summary.
+fn record_free_field(
+    scene: &Scene,
+    ids: Vec<u32>,
+    out: &Path,
+    progress: &mut dyn FnMut(f64),
+    checkpoints: &Checkpoints,
+) -> Result<(Recording, RunSummary), VerifyError> {
+    let checkpoints = Checkpoints {
+        context: format!("recorded ids {ids:?}"),
+        ..checkpoints.clone()
     };
-    let summary = run_with::<2>(scene, out, progress, &|_, _| None, &mut record)?;
+    let mut recording = Recording {
+        times: vec![0.0],
+        velocities: vec![vec![[0.0; 2]; ids.len()]],
+        ids,
+    };
+    let summary = run_with(
+        scene,
+        out,
+        progress,
+        &|_, _| None,
+        &mut recording,
+        &checkpoints,
+    )?;
     Ok((recording, summary))
 }
 
@@ -514,6 +527,7 @@ pub struct Lining {
 /// VIII-2, Annex 5-A). The particles sit half a spacing inside the faces, so a single
 /// particle's stress misses the face value by a share that changes with the resolution; the
 /// fit reaches the faces at any resolution.
+#[derive(Serialize, Deserialize)]
 struct CrownFaces {
     centre_z: f64,
     inner: f64,
@@ -533,7 +547,9 @@ impl CrownFaces {
             peak_pa: 0.0,
         }
     }
+}
 
+impl Observer<2> for CrownFaces {
     fn observe(&mut self, sim: &Simulation<2>) {
         let p = sim.particles();
         if p.deviatoric_stress.is_empty() {
@@ -884,6 +900,7 @@ pub fn run_study(
     accept_unvalidated: bool,
     out: &Path,
     progress: &(dyn Fn(&str, f64) + Sync),
+    checkpoints: &Checkpoints,
 ) -> Result<Outcome, VerifyError> {
     validate(request)?;
     let request = &request.in_order();
@@ -923,6 +940,7 @@ pub fn run_study(
             QUICK,
             out,
             progress,
+            checkpoints,
         )?);
     }
     // resolution: the shallowest depth under the smallest charge again, with the section and
@@ -940,6 +958,7 @@ pub fn run_study(
         fine,
         &out.join("resolution"),
         progress,
+        checkpoints,
     )?;
     let checks = study_checks(request, &gate, &cases, &refined[0])?;
     let (safe_depth_m, scaled_safe_depth_m_kg13) = safe_depths(request, &cases);
@@ -971,6 +990,7 @@ const KEPT_CASE: &str = "case.json";
 /// case's report in `case.json`). A case whose `case.json` holds the same inputs' hash (see
 /// [`SectionRun`]) from the same program is reused, its outputs as they are; the free field
 /// runs only when some case must.
+#[allow(clippy::too_many_arguments)]
 pub fn run_charge(
     charge_kg: f64,
     depths_m: &[f64],
@@ -979,6 +999,7 @@ pub fn run_charge(
     resolution: Resolution,
     out: &Path,
     progress: &(dyn Fn(&str, f64) + Sync),
+    checkpoints: &Checkpoints,
 ) -> Result<Vec<CaseReport>, VerifyError> {
     let runs = prepare_charge(charge_kg, depths_m, soil, tunnel, resolution)?;
     let folder = |case: Case| out.join("cases").join(case_folder(case));
@@ -998,10 +1019,13 @@ pub fn run_charge(
     }
     let free_dir = out.join("free-field").join(format!("{charge_kg}kg"));
     let label = format!("free field {charge_kg} kg");
-    let (recording, free) =
-        record_free_field(&runs.free_field, runs.tracked, &free_dir, &mut |f| {
-            progress(&label, f)
-        })?;
+    let (recording, free) = record_free_field(
+        &runs.free_field,
+        runs.tracked,
+        &free_dir,
+        &mut |f| progress(&label, f),
+        checkpoints,
+    )?;
     let recording = Arc::new(recording);
     let mut reports = Vec::new();
     for (k, (run, kept)) in runs.sections.into_iter().zip(kept).enumerate() {
@@ -1016,19 +1040,26 @@ pub fn run_charge(
         });
         let label = format!("{} m, {} kg", case.depth_m, case.charge_kg);
         let mut faces = CrownFaces::new(&run.section, tunnel, resolution.across_lining);
-        let section = run_with::<2>(
+        // the band's motion comes from the free field, which the case's hash covers
+        let checkpoints = Checkpoints {
+            context: run.inputs_hash.clone(),
+            ..checkpoints.clone()
+        };
+        let section = run_with(
             &run.with,
             &dir.join("section"),
             &mut |f| progress(&label, f),
             &|_, _| Some(motion.clone()),
-            &mut |sim| faces.observe(sim),
+            &mut faces,
+            &checkpoints,
         )?;
-        let empty = run_with::<2>(
+        let empty = run_with::<2, ()>(
             &run.without,
             &dir.join("section-without-tunnel"),
             &mut |_| {},
             &|_, _| Some(motion.clone()),
-            &mut |_| {},
+            &mut (),
+            &checkpoints,
         )?;
         let mut gauges = BTreeMap::new();
         gauges.insert("crown".to_string(), GaugeReading::of(&section, "crown"));
@@ -1583,6 +1614,7 @@ mod tests {
                 coarse,
                 &out,
                 progress,
+                &Checkpoints::default(),
             )
         };
         let cases = run(&|_, _| {}).expect("the case runs");
@@ -1658,6 +1690,7 @@ mod tests {
                 resolution,
                 &out,
                 &|_, _| {},
+                &Checkpoints::default(),
             )
             .expect("the case runs")[0];
             let crown = &case.gauges["crown"];

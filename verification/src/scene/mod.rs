@@ -37,7 +37,10 @@
 
 mod run;
 
-pub use run::{particles, run, run_with, Prescribe, RunSummary};
+pub use run::{
+    particles, run, run_checkpointed, run_with, Checkpoints, Observer, Prescribe, RunSummary,
+    CHECKPOINT_FILE,
+};
 
 use crate::materials::Library;
 use crate::VerifyError;

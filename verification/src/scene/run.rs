@@ -7,7 +7,9 @@
 //! step), `materials.csv` (momentum and energy per material at each snapshot time, or at a
 //! hundredth of the run without snapshots), `snapshots/<k>.vtu` with `snapshots.pvd` (ParaView
 //! plays the series), and last `scene.json`, the summary: a folder without it holds no
-//! finished run.
+//! finished run. While it runs, a run may keep `checkpoint.bin`, everything it has gathered and
+//! the simulation's state between two steps, from which it resumes bitwise (see
+//! [`Checkpoints`]); a finished run removes it.
 
 use super::{contains, Body, Geometry, Gravity, Scene};
 use crate::gauges::ARRIVAL_FRACTION;
@@ -17,12 +19,14 @@ use crate::vtk::{status_code, Snapshot};
 use crate::VerifyError;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
+use blastsph_solver::Checkpoint;
 use blastsph_solver::{
     Boundary, Density, Domain, EnergyEquation, Formulation, InitialState, KernelShape, Material,
     PrescribedMotion, ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Tensor,
     Vector,
 };
-use serde::Serialize;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -88,9 +92,96 @@ pub fn run(
     out: &Path,
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunSummary, VerifyError> {
+    run_checkpointed(scene, out, progress, &Checkpoints::default())
+}
+
+/// As [`run`], keeping checkpoints and resuming from one as `checkpoints` says.
+pub fn run_checkpointed(
+    scene: &Scene,
+    out: &Path,
+    progress: &mut dyn FnMut(f64),
+    checkpoints: &Checkpoints,
+) -> Result<RunSummary, VerifyError> {
     match scene.geometry.dimension() {
-        2 => run_with::<2>(scene, out, progress, &|_, _| None, &mut |_| {}),
-        _ => run_with::<3>(scene, out, progress, &|_, _| None, &mut |_| {}),
+        2 => run_with::<2, ()>(scene, out, progress, &|_, _| None, &mut (), checkpoints),
+        _ => run_with::<3, ()>(scene, out, progress, &|_, _| None, &mut (), checkpoints),
+    }
+}
+
+/// The file in a run's folder that holds its latest checkpoint.
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+
+/// When a run keeps a checkpoint of itself, and whether it resumes from one. Taking a
+/// checkpoint reads the state and changes nothing, so a run's results do not depend on when
+/// its checkpoints were taken; a resumed run's outputs are bitwise those of a run that was
+/// never stopped (with the same build: a checkpoint carries the program's hash).
+#[derive(Clone, Debug, Default)]
+pub struct Checkpoints {
+    /// Wall time between two checkpoints (s); `None` keeps none.
+    pub every_s: Option<f64>,
+    /// Resume from the checkpoint in the run's folder where there is one; one of another
+    /// scene, context or build is refused by name. Without it an old checkpoint is removed.
+    pub resume: bool,
+    /// What decides the run beyond its scene (e.g. the free field that drives its band), so
+    /// that a checkpoint is never resumed under another.
+    pub context: String,
+}
+
+/// What a caller gathers from a run after every step; it travels in the run's checkpoints.
+pub trait Observer<const D: usize>: Serialize + DeserializeOwned {
+    fn observe(&mut self, sim: &Simulation<D>);
+}
+
+impl<const D: usize> Observer<D> for () {
+    fn observe(&mut self, _: &Simulation<D>) {}
+}
+
+/// A run between two steps: the simulation's state and what the run has gathered so far.
+#[derive(Serialize, Deserialize)]
+struct RunState<const D: usize> {
+    inputs_hash: String,
+    simulation: Checkpoint<D>,
+    gauge_rows: Vec<Vec<Vec<f64>>>,
+    ledger: Vec<Vec<f64>>,
+    next_ledger: f64,
+    written: Vec<(f64, String)>,
+    ever_failed: Vec<bool>,
+    wall_s: f64,
+    observer: Vec<u8>,
+}
+
+/// The run state kept at `path` under `hash`; none where there is no file.
+fn kept_state<const D: usize>(path: &Path, hash: &str) -> Result<Option<RunState<D>>, VerifyError> {
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(source) => {
+            return Err(VerifyError::Io {
+                path: path.display().to_string(),
+                source,
+            })
+        }
+    };
+    let state: Option<RunState<D>> = bincode::deserialize(&bytes).ok();
+    match state {
+        Some(state) if state.inputs_hash == hash => Ok(Some(state)),
+        _ => Err(VerifyError::bad_value(
+            "checkpoint",
+            path.display(),
+            "a checkpoint of this scene written by this build (remove it to start afresh)",
+        )),
+    }
+}
+
+/// Marks, by id, the particles at the tensile cutoff.
+fn mark_failed<const D: usize>(sim: &Simulation<D>, ever_failed: &mut [bool]) {
+    let p = sim.particles();
+    for i in 0..p.n_real() {
+        if let Some(strength) = sim.materials()[p.material_of(i)].strength {
+            if strength.failed_in_tension(p.pressure[i], &p.deviatoric_stress[i]) {
+                ever_failed[p.id[i] as usize] = true;
+            }
+        }
     }
 }
 
@@ -587,14 +678,15 @@ fn material_ledger<const D: usize>(sim: &Simulation<D>, materials: usize) -> Vec
     row
 }
 
-/// As [`run`], in `D` dimensions, with the motion `prescribe` gives (see [`Prescribe`]) and
-/// `after_step` called with the simulation after every step.
-pub fn run_with<const D: usize>(
+/// As [`run`], in `D` dimensions, with the motion `prescribe` gives (see [`Prescribe`]),
+/// `observer` shown the simulation after every step, and `checkpoints`.
+pub fn run_with<const D: usize, O: Observer<D>>(
     scene: &Scene,
     out: &Path,
     progress: &mut dyn FnMut(f64),
     prescribe: Prescribe<D>,
-    after_step: &mut dyn FnMut(&Simulation<D>),
+    observer: &mut O,
+    checkpoints: &Checkpoints,
 ) -> Result<RunSummary, VerifyError> {
     let io = |path: &Path| {
         let path = path.display().to_string();
@@ -662,10 +754,20 @@ pub fn run_with<const D: usize>(
     for dir in [out.join("gauges"), snapshots.clone()] {
         std::fs::create_dir_all(&dir).map_err(io(&dir))?;
     }
+    let checkpoint_path = out.join(CHECKPOINT_FILE);
+    let inputs_hash = crate::cache::inputs_hash(&[
+        format!("{scene:?}").as_bytes(),
+        checkpoints.context.as_bytes(),
+    ])?;
+    let resumed = if checkpoints.resume {
+        kept_state::<D>(&checkpoint_path, &inputs_hash)?
+    } else {
+        if checkpoint_path.exists() {
+            std::fs::remove_file(&checkpoint_path).map_err(io(&checkpoint_path))?;
+        }
+        None
+    };
     let ledger_interval = scene.output_interval.unwrap_or(scene.end_time / 100.0);
-    let mut ledger = vec![material_ledger(&sim, scene.materials.len())];
-    let mut next_ledger = ledger_interval;
-    let mut written: Vec<(f64, String)> = Vec::new();
     let write_snapshot = |sim: &Simulation<D>, written: &mut Vec<(f64, String)>| {
         let name = format!("{}.vtu", written.len());
         let path = snapshots.join(&name);
@@ -673,28 +775,46 @@ pub fn run_with<const D: usize>(
         written.push((sim.time(), name));
         Ok::<(), VerifyError>(())
     };
-    if scene.output_interval.is_some() {
-        write_snapshot(&sim, &mut written)?;
-    }
     let mut hints = vec![0usize; gauges.len()];
-    for (g, hint) in gauges.iter_mut().zip(&mut hints) {
-        let i = index_of(&sim, g.id, hint);
-        g.rows.push(gauge_row(&sim, i, &g.start));
-    }
-
-    // particles that reached the tensile cutoff, by id
-    let mut ever_failed = vec![false; built.init.len()];
-    let mut mark_failed = |sim: &Simulation<D>| {
-        let p = sim.particles();
-        for i in 0..p.n_real() {
-            if let Some(strength) = sim.materials()[p.material_of(i)].strength {
-                if strength.failed_in_tension(p.pressure[i], &p.deviatoric_stress[i]) {
-                    ever_failed[p.id[i] as usize] = true;
-                }
+    // what the run gathers: gauge rows, the ledger, the snapshots written, and the particles
+    // that reached the tensile cutoff (by id); from the checkpoint where the run resumes
+    let (mut ledger, mut next_ledger, mut written, mut ever_failed, wall_before) = match resumed {
+        Some(state) => {
+            sim.resume(state.simulation)?;
+            for (g, rows) in gauges.iter_mut().zip(state.gauge_rows) {
+                g.rows = rows;
             }
+            *observer = bincode::deserialize(&state.observer).map_err(|_| {
+                VerifyError::bad_value(
+                    "checkpoint",
+                    checkpoint_path.display(),
+                    "a checkpoint of this scene written by this build",
+                )
+            })?;
+            (
+                state.ledger,
+                state.next_ledger,
+                state.written,
+                state.ever_failed,
+                state.wall_s,
+            )
+        }
+        None => {
+            let mut written = Vec::new();
+            if scene.output_interval.is_some() {
+                write_snapshot(&sim, &mut written)?;
+            }
+            for (g, hint) in gauges.iter_mut().zip(&mut hints) {
+                let i = index_of(&sim, g.id, hint);
+                g.rows.push(gauge_row(&sim, i, &g.start));
+            }
+            let mut ever_failed = vec![false; built.init.len()];
+            mark_failed(&sim, &mut ever_failed);
+            let ledger = vec![material_ledger(&sim, scene.materials.len())];
+            (ledger, ledger_interval, written, ever_failed, 0.0)
         }
     };
-    mark_failed(&sim);
+    let mut last_checkpoint = Instant::now();
     let mut stopped = None;
     while sim.time() < scene.end_time {
         let target = next_ledger.min(scene.end_time);
@@ -706,8 +826,8 @@ pub fn run_with<const D: usize>(
             let i = index_of(&sim, g.id, hint);
             g.rows.push(gauge_row(&sim, i, &g.start));
         }
-        after_step(&sim);
-        mark_failed(&sim);
+        observer.observe(&sim);
+        mark_failed(&sim, &mut ever_failed);
         if sim.time() >= target {
             ledger.push(material_ledger(&sim, scene.materials.len()));
             next_ledger += ledger_interval;
@@ -716,8 +836,27 @@ pub fn run_with<const D: usize>(
             }
         }
         progress(sim.time() / scene.end_time);
+        let due = checkpoints
+            .every_s
+            .is_some_and(|every| last_checkpoint.elapsed().as_secs_f64() >= every);
+        if due && sim.time() < scene.end_time {
+            let state = RunState {
+                inputs_hash: inputs_hash.clone(),
+                simulation: sim.checkpoint(),
+                gauge_rows: gauges.iter().map(|g| g.rows.clone()).collect(),
+                ledger: ledger.clone(),
+                next_ledger,
+                written: written.clone(),
+                ever_failed: ever_failed.clone(),
+                wall_s: wall_before + started.elapsed().as_secs_f64(),
+                observer: bincode::serialize(observer).expect("an observer serialises"),
+            };
+            let bytes = bincode::serialize(&state).expect("a run state serialises");
+            write_atomic(&checkpoint_path, &bytes)?;
+            last_checkpoint = Instant::now();
+        }
     }
-    let wall_s = started.elapsed().as_secs_f64();
+    let wall_s = wall_before + started.elapsed().as_secs_f64();
 
     let columns = gauge_columns(D);
     for g in &gauges {
@@ -828,6 +967,9 @@ pub fn run_with<const D: usize>(
     };
     let json = serde_json::to_vec_pretty(&summary).expect("the summary serialises");
     write_atomic(&summary_path, &json)?;
+    if checkpoint_path.exists() {
+        std::fs::remove_file(&checkpoint_path).map_err(io(&checkpoint_path))?;
+    }
     Ok(summary)
 }
 

@@ -1,5 +1,9 @@
 use super::*;
+use blastsph_solver::Simulation;
 use proptest::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
 
 /// A small valid plane-strain scene: sand with a lined hole, a charge on the surface, gauges.
 const VALID: &str = r#"
@@ -389,4 +393,122 @@ fn ground_in_its_geostatic_state_stays_at_rest_held_by_gravity() {
         "crown pressure {} against {expected}",
         crown.peak_pressure_pa
     );
+}
+
+/// The times of the steps a run has taken; it stops the run (a panic, as a crash would) once
+/// it has seen `stop_after` steps. The stop is not part of its state.
+#[derive(Default, Serialize, Deserialize)]
+struct StepTimes {
+    times: Vec<f64>,
+    #[serde(skip)]
+    stop_after: Option<usize>,
+}
+
+impl Observer<2> for StepTimes {
+    fn observe(&mut self, sim: &Simulation<2>) {
+        self.times.push(sim.time());
+        assert_ne!(Some(self.times.len()), self.stop_after, "stopped");
+    }
+}
+
+/// Every file under `dir`, by its path there, with its bytes (`scene.json` without its wall
+/// time, the one output that may differ).
+fn outputs(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(folder) = pending.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                pending.push(path);
+                continue;
+            }
+            let mut bytes = std::fs::read(&path).unwrap();
+            if path.ends_with("scene.json") {
+                let mut summary: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+                summary["wall_s"] = serde_json::Value::Null;
+                bytes = summary.to_string().into_bytes();
+            }
+            let name = path.strip_prefix(dir).unwrap().display().to_string();
+            files.insert(name, bytes);
+        }
+    }
+    files
+}
+
+/// A run that stops after a checkpoint (a checkpoint after every step here) and is resumed
+/// from it writes bitwise the outputs of a run that never stopped, and its observer ends with
+/// the same state (restored from the checkpoint, then fed the remaining steps); the finished
+/// run removes its checkpoint. A checkpoint of another context is refused by name.
+#[test]
+fn a_stopped_run_resumed_from_its_checkpoint_writes_the_same_outputs() {
+    let mut scene = Scene::parse(VALID).expect("the scene is valid");
+    scene.end_time = 3e-4;
+    scene.output_interval = Some(1e-4);
+    let dir = std::env::temp_dir().join(format!("blastsph-resume-{}", std::process::id()));
+    let (straight_dir, stopped_dir) = (dir.join("straight"), dir.join("stopped"));
+    let every_step = Checkpoints {
+        every_s: Some(0.0),
+        ..Checkpoints::default()
+    };
+    let run_into = |out: &Path, observer: &mut StepTimes, checkpoints: &Checkpoints| {
+        run_with::<2, StepTimes>(
+            &scene,
+            out,
+            &mut |_| {},
+            &|_, _| None,
+            observer,
+            checkpoints,
+        )
+    };
+    let mut straight = StepTimes::default();
+    let summary = run_into(&straight_dir, &mut straight, &every_step).unwrap();
+    assert!(summary.stopped.is_none(), "{:?}", summary.stopped);
+    let steps = straight.times.len();
+    assert!(steps > 20, "{steps} steps");
+
+    let mut stopping = StepTimes {
+        stop_after: Some(steps / 2),
+        ..StepTimes::default()
+    };
+    let crashed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        run_into(&stopped_dir, &mut stopping, &every_step)
+    }));
+    assert!(crashed.is_err());
+    let checkpoint = stopped_dir.join(CHECKPOINT_FILE);
+    assert!(checkpoint.exists() && !stopped_dir.join("scene.json").exists());
+
+    let other_context = Checkpoints {
+        resume: true,
+        context: "another free field".into(),
+        ..every_step.clone()
+    };
+    let refused = run_into(&stopped_dir, &mut StepTimes::default(), &other_context);
+    assert!(
+        matches!(&refused, Err(VerifyError::BadValue { field, .. }) if field == "checkpoint"),
+        "{:?}",
+        refused.map(|s| s.steps)
+    );
+
+    let resume = Checkpoints {
+        resume: true,
+        ..every_step
+    };
+    let mut resumed = StepTimes::default();
+    let summary = run_into(&stopped_dir, &mut resumed, &resume).unwrap();
+    assert_eq!(summary.steps as usize, steps);
+    assert!(!checkpoint.exists());
+    let same_times = resumed.times.len() == steps
+        && resumed
+            .times
+            .iter()
+            .zip(&straight.times)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+    let (a, b) = (outputs(&straight_dir), outputs(&stopped_dir));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(same_times, "the observer's state was not restored");
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (name, bytes) in &a {
+        assert!(*bytes == b[name], "{name} differs");
+    }
 }
