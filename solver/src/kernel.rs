@@ -286,6 +286,60 @@ mod tests {
     }
 
     #[test]
+    fn every_kernel_vanishes_at_the_edge_of_its_support() {
+        // the truncated Gaussian is exp(−9) ≠ 0 just inside q = 3, so only the support test
+        // makes W and dW/dr zero at and beyond κh; the splines reach zero there smoothly
+        for shape in KernelShape::ALL {
+            let kernel = Kernel::<2>::new(shape);
+            let h = 0.4;
+            let edge = kernel.support_radius(h);
+            assert_eq!(edge, shape.support() * h);
+            assert_eq!(kernel.value(edge, h), 0.0, "{shape:?}");
+            assert_eq!(kernel.derivative(edge, h), 0.0, "{shape:?}");
+            assert!(!kernel.reaches(edge, h), "{shape:?}");
+            let inside = edge * (1.0 - 1e-9);
+            assert!(kernel.reaches(inside, h), "{shape:?}");
+            assert!(kernel.value(inside, h) > 0.0, "{shape:?}");
+        }
+        let gaussian = Kernel::<1>::new(KernelShape::Gaussian);
+        assert!(gaussian.value(3.0 * (1.0 - 1e-9), 1.0) > 1e-5);
+    }
+
+    #[test]
+    fn the_gradient_at_zero_separation_is_zero() {
+        // the self-contribution: dW/dr = 0 at r = 0, and dx/r would be 0/0
+        for shape in KernelShape::ALL {
+            let kernel = Kernel::<3>::new(shape);
+            assert_eq!(
+                kernel.gradient(&Vector::<3>::zeros(), 0.0, 1.0),
+                Vector::<3>::zeros()
+            );
+        }
+    }
+
+    #[test]
+    fn names_are_distinct_kebab_case() {
+        let names: Vec<&str> = KernelShape::ALL.iter().map(|s| s.name()).collect();
+        assert_eq!(
+            names,
+            [
+                "cubic-spline",
+                "quintic-spline",
+                "wendland-c2",
+                "wendland-c4",
+                "lucy-quartic",
+                "gaussian"
+            ]
+        );
+    }
+
+    #[test]
+    #[should_panic(expected = "D = 1, 2, 3")]
+    fn a_fourth_dimension_is_refused() {
+        Kernel::<4>::new(KernelShape::CubicSpline);
+    }
+
+    #[test]
     fn gradient_is_antisymmetric_and_radial() {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
         let dx = Vector::<2>::new(0.3, -0.4);
