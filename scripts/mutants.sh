@@ -9,8 +9,10 @@
 #
 # Two passes make a file several times cheaper: the library's unit tests first (a second or
 # less per mutant beside the rebuild), then every test of the package on what they missed.
+# `-C --lib` builds only the library's tests for each mutant (`-- --lib` still builds every
+# integration test, a minute per mutant); --exclude-re leaves out functions by name.
 #
-#   scripts/mutants.sh --file solver/src/eos/jwl.rs -- --lib
+#   scripts/mutants.sh --file solver/src/eos/jwl.rs -C --lib
 #   scripts/mutants.sh --file solver/src/eos/jwl.rs --iterate
 #
 # Results land in mutants.out/ (caught.txt, missed.txt, timeout.txt, unviable.txt).
