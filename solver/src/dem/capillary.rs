@@ -454,6 +454,32 @@ mod tests {
         assert_eq!(BridgeLaw::named("laplace"), None);
     }
 
+    /// The wetting factor of both rupture criteria is 1 + θ/2: at θ = 40° the gap is 1.349
+    /// times the perfectly wetting one's.
+    #[test]
+    fn rupture_gaps_grow_with_the_contact_angle() {
+        let (wet, partial) = (water(1e-14, 0.0), water(1e-14, 40.0));
+        for criterion in [RuptureCriterion::Lian, RuptureCriterion::Willett] {
+            let ratio = rupture_gap(criterion, &partial, 1e-4) / rupture_gap(criterion, &wet, 1e-4);
+            assert!(
+                (ratio - (1.0 + 0.5 * 40f64.to_radians())).abs() < 1e-12,
+                "{ratio}"
+            );
+        }
+    }
+
+    /// Every wetting angle below 90° is accepted, and a liquid without surface tension is not.
+    #[test]
+    fn wetting_angles_up_to_ninety_degrees_are_accepted() {
+        assert!(Liquid::water(1e-14, 89f64.to_radians()).is_ok());
+        let dry = Liquid {
+            volume: 1e-14,
+            surface_tension: 0.0,
+            contact_angle: 0.0,
+        };
+        assert!(dry.validate().unwrap_err().to_string().contains("surface"));
+    }
+
     /// Bad liquid data is named.
     #[test]
     fn bad_liquid_is_named() {
