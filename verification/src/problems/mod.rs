@@ -126,7 +126,7 @@ fn run_here(
     } else if name == transmitting_boundary::NAME {
         transmitting_boundary::run(&params, progress)?
     } else if name == ground_shock::SPHERICAL {
-        ground_shock::run(&params, progress)?
+        ground_shock::run(&params, level, progress)?
     } else if name == tnt_slab::NAME {
         tnt_slab::run(&params, progress)?
     } else if name == density_ratio_tube::NAME {
