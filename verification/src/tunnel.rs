@@ -643,6 +643,9 @@ struct ChargeRuns {
     free_field: Scene,
     sections: Vec<SectionRun>,
     tracked: Vec<u32>,
+    /// The hash of what decides the free field's recording: its scene and the particles it
+    /// records.
+    free_field_hash: String,
 }
 
 /// One depth's section, with the tunnel and without, and the hash of what decides its case:
@@ -760,10 +763,14 @@ fn prepare_charge(
             inputs_hash,
         });
     }
+    let tracked_bytes: Vec<u8> = tracked.iter().flat_map(|id| id.to_le_bytes()).collect();
+    let free_field_hash =
+        crate::cache::inputs_hash(&[free_text(&gauges).as_bytes(), &tracked_bytes])?;
     Ok(ChargeRuns {
         free_field,
         sections,
         tracked,
+        free_field_hash,
     })
 }
 
@@ -984,6 +991,28 @@ fn case_folder(case: Case) -> String {
 /// The file in a case's folder that keeps its report under the hash of its inputs.
 const KEPT_CASE: &str = "case.json";
 
+/// The file in a free field's folder that keeps its recording and summary under the hash of
+/// its inputs, so that a study stopped during its sections does not run the free field again.
+/// Binary: the recording holds a velocity per recorded particle per step, and NaN (a gauge
+/// that never moved) has no JSON form.
+const KEPT_FREE_FIELD: &str = "free-field.bin";
+
+/// A finished free field as kept in [`KEPT_FREE_FIELD`].
+#[derive(Serialize, Deserialize)]
+struct KeptFreeField {
+    inputs_hash: String,
+    recording: Recording,
+    summary: RunSummary,
+}
+
+/// The free field kept at `path` if it was recorded from inputs with `hash` (by this program:
+/// the hash covers its bytes).
+fn kept_free_field(path: &Path, hash: &str) -> Option<KeptFreeField> {
+    let bytes = std::fs::read(path).ok()?;
+    let kept: KeptFreeField = bincode::deserialize(&bytes).ok()?;
+    (kept.inputs_hash == hash).then_some(kept)
+}
+
 /// One charge at every depth: its free field, then each section with and without the tunnel,
 /// into `out` (`free-field/<W>kg/`, `cases/<d>m-<W>kg/section/` and
 /// `.../section-without-tunnel/`, each with its scene, gauge CSVs and snapshots, and the
@@ -1019,13 +1048,27 @@ pub fn run_charge(
     }
     let free_dir = out.join("free-field").join(format!("{charge_kg}kg"));
     let label = format!("free field {charge_kg} kg");
-    let (recording, free) = record_free_field(
-        &runs.free_field,
-        runs.tracked,
-        &free_dir,
-        &mut |f| progress(&label, f),
-        checkpoints,
-    )?;
+    let kept_free = free_dir.join(KEPT_FREE_FIELD);
+    let (recording, free) = match kept_free_field(&kept_free, &runs.free_field_hash) {
+        Some(kept) => (kept.recording, kept.summary),
+        None => {
+            let (recording, summary) = record_free_field(
+                &runs.free_field,
+                runs.tracked,
+                &free_dir,
+                &mut |f| progress(&label, f),
+                checkpoints,
+            )?;
+            let kept = KeptFreeField {
+                inputs_hash: runs.free_field_hash.clone(),
+                recording,
+                summary,
+            };
+            let bytes = bincode::serialize(&kept).expect("a free field serialises");
+            crate::report::write_atomic(&kept_free, &bytes)?;
+            (kept.recording, kept.summary)
+        }
+    };
     let recording = Arc::new(recording);
     let mut reports = Vec::new();
     for (k, (run, kept)) in runs.sections.into_iter().zip(kept).enumerate() {
@@ -1620,7 +1663,25 @@ mod tests {
         let cases = run(&|_, _| {}).expect("the case runs");
         // run again into the same folder: the case is kept, nothing runs, the report is the same
         let again = run(&|_, _| panic!("a kept case runs nothing")).expect("the kept case is read");
+        // without the case's report (a study stopped during its section), the section runs
+        // again from the kept free field, and its gauges read what they read the first time
+        let case_dir = out.join("cases").join(case_folder(Case {
+            depth_m: 8.0,
+            charge_kg: 50.0,
+        }));
+        std::fs::remove_file(case_dir.join(KEPT_CASE)).expect("the case was kept");
+        let rerun = run(&|label, _| {
+            assert!(
+                !label.starts_with("free field"),
+                "the kept free field ran again"
+            )
+        })
+        .expect("the section runs from the kept free field");
         let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(
+            serde_json::to_string(&rerun[0].gauges).unwrap(),
+            serde_json::to_string(&cases[0].gauges).unwrap()
+        );
         let case = &cases[0];
         assert!(!case.reused && again[0].reused);
         let without_flag = |case: &CaseReport| {

@@ -35,7 +35,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 /// What `scene.json` holds.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct RunSummary {
     pub scene: String,
     pub geometry: String,
@@ -70,7 +70,7 @@ pub struct RunSummary {
 }
 
 /// A gauge's place, the particle it reads and its peaks.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GaugeSummary {
     pub name: String,
     pub body: String,
@@ -525,7 +525,7 @@ fn scene_materials(scene: &Scene) -> Result<Vec<Material>, VerifyError> {
 /// acceleration that holds each particle at rest against g, over particles whose kernel
 /// support lies inside their own body, clear of the surface and the domain's sides (near
 /// those it also carries the support the boundary gives).
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct GravityBalance {
     pub gravity_m_s2: f64,
     pub interior_particles: usize,
