@@ -470,6 +470,34 @@ mod tests {
         }
     }
 
+    /// Rabinovich et al.'s law at a wide contact angle and a large bridge, where its
+    /// contact-line term 2πγR sin α sin(θ + α) is a fifth of the force: evaluated here from
+    /// the geometry it rests on, a meniscus of immersion depth d on each sphere holding
+    /// V = 2πR(d² + S d) (two paraboloidal caps πRd² and the cylinder 2πRd·S between them),
+    /// with d taken from that quadratic as the positive root, and the half-filling angle
+    /// sin²(α/2) ≈ d/(2R), i.e. α² = 2d/R.
+    #[test]
+    fn rabinovich_law_from_its_meniscus_geometry() {
+        let radius: f64 = 1e-4;
+        let (v_star, theta) = (1e-2, 40f64.to_radians());
+        let liquid = Liquid::water(v_star * radius.powi(3), theta).unwrap();
+        let v = liquid.volume;
+        for gap in [0.0, 0.01, 0.05] {
+            let s = gap * radius;
+            let depth = (-s + (s * s + 2.0 * v / (PI * radius)).sqrt()) / 2.0;
+            let alpha = (2.0 * depth / radius).sqrt();
+            let meniscus = theta.cos() / (1.0 + s / (2.0 * depth));
+            let contact_line = alpha.sin() * (theta + alpha).sin();
+            let expected = 2.0 * PI * liquid.surface_tension * radius * (meniscus + contact_line);
+            let force = bridge_force(BridgeLaw::Rabinovich, &liquid, radius, s);
+            assert!(
+                (force / expected - 1.0).abs() < 1e-9,
+                "S = {gap} R: {force} against {expected}"
+            );
+            assert!(contact_line > 0.2 * (meniscus + contact_line));
+        }
+    }
+
     /// The names the command line takes, each found by its own name and no other.
     #[test]
     fn laws_are_found_by_name() {
