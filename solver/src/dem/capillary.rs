@@ -451,10 +451,9 @@ mod tests {
     /// and 11 % at most, both at contact, where they reach 2πγR and above while the toroidal
     /// bridge gives 0.92 of it; Willett's fitted law 7 % at most). The limit is not a
     /// round-off bound but the width of the approximations; a law whose gap enters at the
-    /// wrong scale (Rabinovich's immersion
-    /// depth held at its contact value, Willett's S√(R/V) as S√(RV) or S/√(R/V)) or whose
-    /// quadratic term is misplaced, or a toroidal bridge without the gorge's tension term, is
-    /// 20 % or more off at some gap.
+    /// wrong scale (Rabinovich's immersion depth held at its contact value, Willett's S√(R/V)
+    /// as S√(RV) or S/√(R/V)) or whose quadratic term is misplaced, or a toroidal bridge
+    /// without the gorge's tension term, is 20 % or more off at some gap.
     #[test]
     fn closed_form_laws_follow_the_toroidal_bridge_across_the_gap() {
         let radius: f64 = 1e-4;
