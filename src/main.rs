@@ -1236,10 +1236,11 @@ fn bridge_command(args: BridgeArgs) -> Result<(), VerifyError> {
         contact_angle: theta.to_radians(),
     };
     liquid.validate()?;
+    named.admits(&liquid, r)?;
     let rupture_gap_m = rupture_gap(criterion, &liquid, r);
     // beyond the rupture distance the bridge has broken and pulls no more
     let force_n = if gap < rupture_gap_m {
-        bridge_force(named, &liquid, r, gap)
+        bridge_force(named, &liquid, r, gap)?
     } else {
         0.0
     };

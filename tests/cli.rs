@@ -470,8 +470,13 @@ fn soil_bridge_prints_force_and_rupture_gap() {
     let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(value["force_n"].as_f64(), Some(0.0));
     for (flag, args) in [
-        ("--radius", ["--radius", "-1", "--law", "willett"]),
-        ("--law", ["--radius", "1e-4", "--law", "hooke"]),
+        ("--radius", &["--radius", "-1", "--law", "willett"][..]),
+        ("--law", &["--radius", "1e-4", "--law", "hooke"]),
+        // V* = 0.01 at θ = 80°: more than a concave toroidal meridian holds (1.4e-3 R³)
+        (
+            "bridge volume",
+            &["--radius", "1e-4", "--law", "toroidal", "--theta", "80"],
+        ),
     ] {
         let mut all = vec!["soil", "bridge", "--volume", "1e-14", "--gap", "0"];
         all.extend(args);

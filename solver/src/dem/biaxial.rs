@@ -242,7 +242,7 @@ pub fn run_biaxial(
     let sigma3 = loading.confining_stress;
     let line_load = sigma3 * discs.layer_thickness();
     let step_once = |discs: &mut Discs| -> Result<f64, SolverError> {
-        discs.compute_forces(dt);
+        discs.compute_forces(dt)?;
         membrane.add_forces(discs, line_load);
         let sigma1 = axial_stress(discs, membrane);
         discs.advance(dt)?;
@@ -490,7 +490,7 @@ pub fn add_pore_water(
     if test.saturation == 0.0 {
         return Ok(());
     }
-    discs.compute_forces(0.0);
+    discs.compute_forces(0.0)?;
     let water = liquid_for_saturation(discs, sample.width * sample.height, test.saturation);
     discs.distribute_liquid(water)?;
     let liquid = |volume| Liquid {
@@ -505,7 +505,7 @@ pub fn add_pore_water(
         let gap = (discs.position[j] - discs.position[i]).norm() - ri - rj;
         count += 1;
         volume_ratio += v / radius.powi(3);
-        force += capillary_force(test.law, &liquid(v), radius, gap);
+        force += capillary_force(test.law, &liquid(v), radius, gap)?;
     }
     sample.bridges = count;
     sample.mean_bridge_volume_ratio = volume_ratio / count.max(1) as f64;

@@ -47,6 +47,31 @@ impl BridgeLaw {
     pub fn named(name: &str) -> Option<BridgeLaw> {
         BridgeLaw::ALL.into_iter().find(|law| law.name() == name)
     }
+
+    /// Whether the law can shape a bridge of `liquid` between spheres of effective radius
+    /// `radius` at every gap: the closed forms always can; the toroidal bridge only up to the
+    /// volume its concave meridian holds at contact, [`toroidal_capacity`] (it holds more at
+    /// a wider gap). A larger bridge bulges (a convex meridian), which it does not describe.
+    pub fn admits(self, liquid: &Liquid, radius: f64) -> Result<(), SolverError> {
+        if self != BridgeLaw::Toroidal {
+            return Ok(());
+        }
+        let capacity = toroidal_capacity(liquid.contact_angle, radius, 0.0);
+        if liquid.volume > capacity {
+            return Err(SolverError::invalid(
+                "bridge volume",
+                liquid.volume,
+                &format!(
+                    "≤ {capacity:.4e} m³ for the toroidal law at θ = {:.1}° and R = {radius:.4e} m \
+                     (V* ≤ {:.4e}, the most a concave meridian holds at contact; the willett, \
+                     simple and rabinovich laws take any volume)",
+                    liquid.contact_angle.to_degrees(),
+                    capacity / radius.powi(3),
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// Where a stretched bridge breaks.
@@ -123,8 +148,20 @@ pub fn rupture_gap(criterion: RuptureCriterion, liquid: &Liquid, radius: f64) ->
 }
 
 /// The attractive force (N) of the bridge at surface gap `gap` (m) between spheres of effective
-/// radius `radius` (m); a gap below zero counts as zero.
-pub fn bridge_force(law: BridgeLaw, liquid: &Liquid, radius: f64, gap: f64) -> f64 {
+/// radius `radius` (m); a gap below zero counts as zero. Refuses a liquid the law cannot shape
+/// ([`BridgeLaw::admits`]).
+pub fn bridge_force(
+    law: BridgeLaw,
+    liquid: &Liquid,
+    radius: f64,
+    gap: f64,
+) -> Result<f64, SolverError> {
+    law.admits(liquid, radius)?;
+    Ok(admitted_force(law, liquid, radius, gap))
+}
+
+/// [`bridge_force`] of a liquid that `law` admits.
+fn admitted_force(law: BridgeLaw, liquid: &Liquid, radius: f64, gap: f64) -> f64 {
     let s = gap.max(0.0);
     let (v, gamma, theta) = (liquid.volume, liquid.surface_tension, liquid.contact_angle);
     let scale = 2.0 * PI * gamma * radius;
@@ -229,16 +266,23 @@ pub struct Bridge {
 }
 
 impl Bridge {
-    pub fn new(law: BridgeLaw, rupture: RuptureCriterion, liquid: Liquid, radius: f64) -> Self {
+    /// Refuses a liquid the law cannot shape ([`BridgeLaw::admits`]).
+    pub fn new(
+        law: BridgeLaw,
+        rupture: RuptureCriterion,
+        liquid: Liquid,
+        radius: f64,
+    ) -> Result<Self, SolverError> {
+        law.admits(&liquid, radius)?;
         let willett = (law == BridgeLaw::WillettFitted)
             .then(|| WillettFit::new(liquid.volume / radius.powi(3), liquid.contact_angle));
-        Self {
+        Ok(Self {
             liquid,
             radius,
             rupture_gap: rupture_gap(rupture, &liquid, radius),
             law,
             willett,
-        }
+        })
     }
 
     /// Its force at `gap` (m), as [`bridge_force`].
@@ -248,9 +292,21 @@ impl Bridge {
                 let scale = 2.0 * PI * self.liquid.surface_tension * self.radius;
                 scale * fit.force_ratio(gap.max(0.0) / self.radius)
             }
-            None => bridge_force(self.law, &self.liquid, self.radius, gap),
+            None => admitted_force(self.law, &self.liquid, self.radius, gap),
         }
     }
+}
+
+/// The largest volume (m³) a toroidal bridge with a concave meridian holds between equal
+/// spheres of radius R at gap S with contact angle θ: its limit β + θ → π/2, where the meridian
+/// radius ρ1 grows without bound and the liquid is the cylinder of radius R sin β over the
+/// half-width a = R(1 − cos β) + S/2 less the two spherical caps of height R(1 − cos β).
+pub fn toroidal_capacity(theta: f64, radius: f64, gap: f64) -> f64 {
+    let beta = 0.5 * PI - theta;
+    let cap = radius * (1.0 - beta.cos());
+    let half_width = cap + 0.5 * gap;
+    let neck = radius * beta.sin();
+    2.0 * PI * neck * neck * half_width - 2.0 * PI * cap * cap * (3.0 * radius - cap) / 3.0
 }
 
 /// The toroidal bridge between equal spheres of radius R at gap S: the filling angle β whose
@@ -259,8 +315,12 @@ impl Bridge {
 /// the midplane at height c = ρ1 + ρ2 meets the sphere at (R(1 − cos β) + S/2, R sin β) at
 /// contact angle θ, so ρ1 cos(β + θ) = R(1 − cos β) + S/2 and ρ2 = R sin β − ρ1(1 − sin(β+θ));
 /// its volume is the solid of revolution of y = c − √(ρ1² − x²) over |x| ≤ a = ρ1 cos(β+θ)
-/// less the two spherical caps of height R(1 − cos β).
-pub fn toroidal_shape(volume: f64, theta: f64, radius: f64, gap: f64) -> (f64, f64) {
+/// less the two spherical caps of height R(1 − cos β). The volume must be within
+/// [`toroidal_capacity`] (checked by [`BridgeLaw::admits`]). Near that limit ρ1 grows without
+/// bound and the closed form's terms of order ρ1²a cancel: a bridge within 0.1 % of the
+/// capacity holds V to about 3e-5, within 0.01 % to about 3e-4 (against a midpoint-rule
+/// integral of the profile written without the cancellation); 1 % below it, to 2e-8.
+fn toroidal_shape(volume: f64, theta: f64, radius: f64, gap: f64) -> (f64, f64) {
     let shape = |beta: f64| {
         let a = radius * (1.0 - beta.cos()) + 0.5 * gap;
         let rho1 = a / (beta + theta).cos();
@@ -306,18 +366,22 @@ mod tests {
     fn forces_fall_with_the_gap_from_their_contact_value() {
         let (r, liquid) = (1e-4, water(1e-14, 20.0));
         let contact = 2.0 * PI * 0.0728 * r * 20f64.to_radians().cos();
-        let simple = bridge_force(BridgeLaw::WillettSimple, &liquid, r, 0.0);
+        let simple = bridge_force(BridgeLaw::WillettSimple, &liquid, r, 0.0).unwrap();
         assert!((simple / contact - 1.0).abs() < 1e-12);
         for law in BridgeLaw::ALL {
             let mut last = f64::INFINITY;
             for k in 0..10 {
-                let f = bridge_force(law, &liquid, r, k as f64 * 2e-6);
+                let f = bridge_force(law, &liquid, r, k as f64 * 2e-6).unwrap();
                 assert!(f > 0.0 && f < last, "{law:?} at gap {k}: {f}");
                 last = f;
             }
             // an overlap pulls as contact does
-            let overlap = bridge_force(law, &liquid, r, -1e-6);
-            assert_eq!(overlap, bridge_force(law, &liquid, r, 0.0), "{law:?}");
+            let overlap = bridge_force(law, &liquid, r, -1e-6).unwrap();
+            assert_eq!(
+                overlap,
+                bridge_force(law, &liquid, r, 0.0).unwrap(),
+                "{law:?}"
+            );
         }
     }
 
@@ -328,10 +392,10 @@ mod tests {
         let (r, liquid) = (1.5e-4, water(2e-13, 20.0));
         for law in BridgeLaw::ALL {
             for rupture in [RuptureCriterion::Lian, RuptureCriterion::Willett] {
-                let bridge = Bridge::new(law, rupture, liquid, r);
+                let bridge = Bridge::new(law, rupture, liquid, r).unwrap();
                 assert_eq!(bridge.rupture_gap, rupture_gap(rupture, &liquid, r));
                 for gap in [-1e-6, 0.0, 1e-7, 3e-6, 2e-5] {
-                    let scratch = bridge_force(law, &liquid, r, gap);
+                    let scratch = bridge_force(law, &liquid, r, gap).unwrap();
                     assert!((bridge.force(gap) / scratch - 1.0).abs() < 1e-14, "{law:?}");
                 }
             }
@@ -366,7 +430,13 @@ mod tests {
     /// from the contact circle's geometry, ρ1 cos(β + θ) = R(1 − cos β) + S/2.
     #[test]
     fn the_toroidal_bridge_holds_its_volume() {
-        for (volume, degrees, gap) in [(1e-3, 0.0, 0.05), (1e-2, 20.0, 0.1), (5e-2, 40.0, 0.0)] {
+        let near_capacity = 0.99 * toroidal_capacity(80f64.to_radians(), 1.0, 0.0);
+        for (volume, degrees, gap) in [
+            (1e-3, 0.0, 0.05),
+            (1e-2, 20.0, 0.1),
+            (5e-2, 40.0, 0.0),
+            (near_capacity, 80.0, 0.0),
+        ] {
             let (radius, theta) = (1.0, f64::to_radians(degrees));
             let (neck, meridian) = toroidal_shape(volume, theta, radius, gap);
             let contact = |beta: f64| {
@@ -406,6 +476,57 @@ mod tests {
         }
     }
 
+    /// The toroidal law takes a bridge up to the volume its concave meridian holds at contact:
+    /// at θ = 80° (β ≤ 10°) that is the cylinder of radius sin 10° R over the half-width
+    /// (1 − cos 10°) R less the two caps, 1.4355e-3 R³ (worked by hand: 2π·0.030154·0.015192
+    /// − 2·π·0.015192²·2.98481/3). A bridge just inside it holds its volume with its filling
+    /// angle near the limit; one just past it is refused by name, by every entry point.
+    #[test]
+    fn the_toroidal_law_refuses_a_bridge_its_meridian_cannot_hold() {
+        let theta = 80f64.to_radians();
+        let capacity = toroidal_capacity(theta, 1.0, 0.0);
+        assert!((capacity / 1.4355e-3 - 1.0).abs() < 1e-4, "{capacity}");
+        // wider gaps hold more, and a gentler angle far more
+        assert!(toroidal_capacity(theta, 1.0, 0.1) > capacity);
+        assert!(toroidal_capacity(0.0, 1.0, 0.0) > 0.5);
+        // the neck sits just below the limit's R sin 10°, the meridian far wider than a grain
+        let (neck, meridian) = toroidal_shape(0.99 * capacity, theta, 1.0, 0.0);
+        let limit = 10f64.to_radians().sin();
+        assert!(
+            neck < limit && neck > 0.9 * limit && meridian > 1.0,
+            "{neck} {meridian}"
+        );
+        let inside = Liquid {
+            volume: 0.99 * capacity,
+            surface_tension: 1.0,
+            contact_angle: theta,
+        };
+        assert!(BridgeLaw::Toroidal.admits(&inside, 1.0).is_ok());
+        let past = Liquid {
+            volume: 1.01 * capacity,
+            ..inside
+        };
+        for law in BridgeLaw::ALL {
+            assert_eq!(
+                law.admits(&past, 1.0).is_ok(),
+                law != BridgeLaw::Toroidal,
+                "{law:?}"
+            );
+        }
+        let refusals = [
+            BridgeLaw::Toroidal.admits(&past, 1.0).unwrap_err(),
+            bridge_force(BridgeLaw::Toroidal, &past, 1.0, 0.1).unwrap_err(),
+            Bridge::new(BridgeLaw::Toroidal, RuptureCriterion::Lian, past, 1.0).unwrap_err(),
+        ];
+        for err in refusals {
+            let text = err.to_string();
+            assert!(
+                text.contains("bridge volume") && text.contains("1.4"),
+                "{text}"
+            );
+        }
+    }
+
     /// A vanishing bridge at contact pulls with 2πγR cos θ (the Derjaguin limit of a thin
     /// meniscus): the toroidal and Rabinovich forms approach it as V* → 0, their excess
     /// O(√β) ~ V*^(1/4) (about 1.5 % at V* = 1e-6, so 5 % bounds it).
@@ -416,7 +537,7 @@ mod tests {
             let liquid = water(1e-6 * radius.powi(3), degrees);
             let limit = 2.0 * PI * 0.0728 * radius * f64::to_radians(degrees).cos();
             for law in [BridgeLaw::Toroidal, BridgeLaw::Rabinovich] {
-                let ratio = bridge_force(law, &liquid, radius, 0.0) / limit;
+                let ratio = bridge_force(law, &liquid, radius, 0.0).unwrap() / limit;
                 assert!(
                     (ratio - 1.0).abs() < 0.05,
                     "{law:?} at θ = {degrees}°: {ratio}"
@@ -434,8 +555,8 @@ mod tests {
         for (v_star, degrees) in [(1e-3, 0.0), (1e-2, 20.0), (1e-1, 40.0)] {
             let liquid = water(v_star * radius.powi(3), degrees);
             for law in BridgeLaw::ALL {
-                let contact = bridge_force(law, &liquid, radius, 0.0);
-                let near = bridge_force(law, &liquid, radius, 1e-12 * radius);
+                let contact = bridge_force(law, &liquid, radius, 0.0).unwrap();
+                let near = bridge_force(law, &liquid, radius, 1e-12 * radius).unwrap();
                 assert!(
                     (near / contact - 1.0).abs() < 1e-3,
                     "{law:?}, V* {v_star}, θ {degrees}°: {near} against {contact}"
@@ -465,8 +586,8 @@ mod tests {
         ] {
             for gap in [0.0, 0.005, 0.01, 0.02, 0.03, 0.05] {
                 let s = gap * radius;
-                let ratio = bridge_force(law, &liquid, radius, s)
-                    / bridge_force(BridgeLaw::Toroidal, &liquid, radius, s);
+                let ratio = bridge_force(law, &liquid, radius, s).unwrap()
+                    / bridge_force(BridgeLaw::Toroidal, &liquid, radius, s).unwrap();
                 assert!(
                     (ratio - 1.0).abs() < 0.15,
                     "{law:?} at S = {gap} R: {ratio} of the toroidal bridge"
@@ -494,7 +615,7 @@ mod tests {
             let meniscus = theta.cos() / (1.0 + s / (2.0 * depth));
             let contact_line = alpha.sin() * (theta + alpha).sin();
             let expected = 2.0 * PI * liquid.surface_tension * radius * (meniscus + contact_line);
-            let force = bridge_force(BridgeLaw::Rabinovich, &liquid, radius, s);
+            let force = bridge_force(BridgeLaw::Rabinovich, &liquid, radius, s).unwrap();
             assert!(
                 (force / expected - 1.0).abs() < 1e-9,
                 "S = {gap} R: {force} against {expected}"

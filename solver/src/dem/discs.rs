@@ -279,7 +279,7 @@ impl Discs {
 
     /// Grows (or shrinks) every grain's radius by `factor`, keeping its density: mass ∝ r³,
     /// inertia ∝ r⁵ (radius expansion).
-    pub fn scale_radii(&mut self, factor: f64) {
+    pub fn scale_radii(&mut self, factor: f64) -> Result<(), SolverError> {
         for k in 0..self.grains {
             self.radius[k] *= factor;
             self.mass[k] *= factor.powi(3);
@@ -289,10 +289,11 @@ impl Discs {
         for p in 0..self.pairs.len() {
             if let Some(bridge) = self.pairs[p].bridge {
                 let (i, j) = (self.pairs[p].i as usize, self.pairs[p].j as usize);
-                self.pairs[p].bridge = Some(self.bridge(i, j, bridge.liquid));
+                self.pairs[p].bridge = Some(self.bridge(i, j, bridge.liquid)?);
             }
         }
         self.listed_at = None;
+        Ok(())
     }
 
     /// Sets Cundall's local damping α from now on (a packing settles fastest under heavy
@@ -401,15 +402,17 @@ impl Discs {
             .pairs
             .iter()
             .map(|p| {
-                wet(p).then(|| {
-                    let liquid = Liquid {
-                        volume: volume * distance(p) / total,
-                        ..w.liquid
-                    };
-                    self.bridge(p.i as usize, p.j as usize, liquid)
-                })
+                wet(p)
+                    .then(|| {
+                        let liquid = Liquid {
+                            volume: volume * distance(p) / total,
+                            ..w.liquid
+                        };
+                        self.bridge(p.i as usize, p.j as usize, liquid)
+                    })
+                    .transpose()
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         for (pair, bridge) in self.pairs.iter_mut().zip(bridges) {
             pair.bridge = bridge;
         }
@@ -501,7 +504,7 @@ impl Discs {
     }
 
     /// A bridge of `liquid` between grains i and j (the grains are wet).
-    fn bridge(&self, i: usize, j: usize, liquid: Liquid) -> Bridge {
+    fn bridge(&self, i: usize, j: usize, liquid: Liquid) -> Result<Bridge, SolverError> {
         let w = self.wetting.expect("a bridge between wet grains");
         let radius = effective_radius(self.radius[i], self.radius[j]);
         Bridge::new(w.law, w.rupture, liquid, radius)
@@ -509,7 +512,7 @@ impl Discs {
 
     /// Forces and torques of the current positions and velocities (contacts, bridges,
     /// walls); contact springs advance by `dt`; bridges form, keep or break (see [`Wetting`]).
-    pub fn compute_forces(&mut self, dt: f64) {
+    pub fn compute_forces(&mut self, dt: f64) -> Result<(), SolverError> {
         if self.list_is_stale() {
             self.rebuild_pairs();
         }
@@ -517,15 +520,17 @@ impl Discs {
         self.torque.iter_mut().for_each(|t| *t = 0.0);
         // the pairs are updated in place (they are large: a bridge carries its law's constants)
         let mut pairs = std::mem::take(&mut self.pairs);
-        for pair in &mut pairs {
-            self.pair_force(pair, dt);
-        }
+        let formed = pairs
+            .iter_mut()
+            .try_for_each(|pair| self.pair_force(pair, dt));
         self.pairs = pairs;
+        formed?;
         self.wall_forces();
+        Ok(())
     }
 
     /// The contact and bridge forces of one pair, added to both; updates its state.
-    fn pair_force(&mut self, pair: &mut Pair, dt: f64) {
+    fn pair_force(&mut self, pair: &mut Pair, dt: f64) -> Result<(), SolverError> {
         let (i, j) = (pair.i as usize, pair.j as usize);
         let (ri, rj) = (self.radius[i], self.radius[j]);
         let d_vec = self.position[j] - self.position[i];
@@ -533,7 +538,7 @@ impl Discs {
         if pair.bridge.is_none() && d_vec.norm_squared() >= (ri + rj).powi(2) {
             pair.touching = false;
             pair.tangential = Vector::zeros();
-            return;
+            return Ok(());
         }
         let d = d_vec.norm();
         let normal = d_vec / d;
@@ -552,7 +557,7 @@ impl Discs {
             Vector::zeros()
         };
         let Some(w) = self.wetting.filter(|_| grain_pair) else {
-            return;
+            return Ok(());
         };
         // a standing bridge keeps its liquid; a new one forms at contact from the films
         if pair.bridge.is_none() && pair.touching && self.film[i] + self.film[j] > 0.0 {
@@ -560,12 +565,12 @@ impl Discs {
                 volume: 0.5 * (self.film[i] + self.film[j]),
                 ..w.liquid
             };
-            pair.bridge = Some(self.bridge(i, j, liquid));
+            pair.bridge = Some(self.bridge(i, j, liquid)?);
             self.film[i] *= 0.5;
             self.film[j] *= 0.5;
         }
         let Some(bridge) = &pair.bridge else {
-            return;
+            return Ok(());
         };
         if gap < bridge.rupture_gap {
             let f = bridge.force(gap) * normal;
@@ -575,6 +580,7 @@ impl Discs {
             self.return_liquid(pair);
             pair.bridge = None;
         }
+        Ok(())
     }
 
     /// The contact force between overlapping i and j (overlap δ > 0, unit normal from i to
@@ -688,7 +694,7 @@ impl Discs {
     /// One leapfrog step: forces at the current state (velocities at the half step), then
     /// [`Self::advance`].
     pub fn step(&mut self, dt: f64) -> Result<(), SolverError> {
-        self.compute_forces(dt);
+        self.compute_forces(dt)?;
         self.advance(dt)
     }
 

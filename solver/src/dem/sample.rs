@@ -136,7 +136,7 @@ pub fn expand_to_stress(
         } else {
             0.5 * fine * (1.0 - stress / target_stress).max(-1.0)
         };
-        discs.scale_radii(1.0 + g);
+        discs.scale_radii(1.0 + g)?;
     }
     Err(SolverError::invalid(
         "radius expansion",

@@ -36,13 +36,13 @@ pub fn info() -> super::ProblemInfo {
 }
 
 /// F* of `law` for volume V*, angle θ (rad), gap S* (unit radius and 2πγ = 1).
-fn law_force(law: BridgeLaw, volume: f64, theta: f64, gap: f64) -> f64 {
+fn law_force(law: BridgeLaw, volume: f64, theta: f64, gap: f64) -> Result<f64, VerifyError> {
     let liquid = Liquid {
         volume,
         surface_tension: 1.0 / (2.0 * PI),
         contact_angle: theta,
     };
-    bridge_force(law, &liquid, 1.0, gap)
+    Ok(bridge_force(law, &liquid, 1.0, gap)?)
 }
 
 /// One curve: (S*, exact F*, each law's F*) where the exact bridge exists.
@@ -78,12 +78,20 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             let rupture = rupture_gap(RuptureCriterion::Lian, &liquid, 1.0);
             let curve: Curve = (0..gaps)
                 .into_par_iter()
-                .filter_map(|k| {
+                .map(|k| {
                     let gap = rupture * k as f64 / (gaps - 1) as f64;
-                    let exact = laplace_young::solve(volume, theta, gap)?;
-                    let laws = BridgeLaw::ALL.map(|law| law_force(law, volume, theta, gap));
-                    Some((gap, exact.force, laws))
+                    let Some(exact) = laplace_young::solve(volume, theta, gap) else {
+                        return Ok(None);
+                    };
+                    let mut laws = [0.0; 4];
+                    for (force, law) in laws.iter_mut().zip(BridgeLaw::ALL) {
+                        *force = law_force(law, volume, theta, gap)?;
+                    }
+                    Ok(Some((gap, exact.force, laws)))
                 })
+                .collect::<Result<Vec<_>, VerifyError>>()?
+                .into_iter()
+                .flatten()
                 .collect();
             let label = format!("V* = {volume}, θ = {degrees}°");
             let mut run = Run::new(label.clone(), "", 2, volume);
