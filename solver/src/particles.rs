@@ -534,4 +534,85 @@ mod tests {
         assert_eq!(p.deviatoric_stress.len(), 4);
         assert_eq!(p.omega.len(), 4);
     }
+
+    /// Several images at once: an image of an image stands for a wall if either mirror is one
+    /// and sees its source through both; refreshing and moving reach every image (not only
+    /// the first); keeping some drops the others' entries from every field, the kept ones in
+    /// their order.
+    #[test]
+    fn every_image_follows_its_own_source() {
+        let mut p = labelled();
+        let wall = Vector::<2>::new(-1.0, 1.0);
+        let periodic = Vector::<2>::new(1.0, 1.0);
+        p.push_image(1, wall, Vector::<2>::new(-1.0, 0.0), true);
+        p.push_image(4, periodic, Vector::<2>::new(0.0, 10.0), false);
+        p.push_image(2, periodic, Vector::<2>::new(0.0, -10.0), false);
+        assert_eq!(p.len(), 7);
+        let (corner, copy) = (&p.images[1], &p.images[2]);
+        assert!(corner.is_wall && corner.source == 1 && corner.velocity_sign == wall);
+        assert!(!copy.is_wall && copy.source == 2);
+        assert_eq!(p.position[5], Vector::<2>::new(-2.0, 10.0));
+        p.density[1] = 9.0;
+        p.density[2] = 11.0;
+        p.velocity[1] = Vector::<2>::new(5.0, 7.0);
+        p.position[2] = Vector::<2>::new(2.5, 1.0);
+        p.refresh_images();
+        assert_eq!([p.density[4], p.density[5], p.density[6]], [9.0, 9.0, 11.0]);
+        assert_eq!(p.velocity[5], Vector::<2>::new(-5.0, 7.0));
+        assert_eq!(p.position[6], Vector::<2>::new(2.5, -9.0));
+        p.retain_images(&[true, false, true]);
+        assert_eq!((p.len(), p.images.len(), p.density.len()), (6, 2, 6));
+        assert_eq!([p.density[4], p.density[5]], [9.0, 11.0]);
+        assert_eq!(p.real_index(5), 2);
+        // the scene's totals count real particles only
+        assert_eq!(p.total_mass(), 1.0 + 2.0 + 3.0 + 4.0);
+    }
+
+    /// Σm, Σmv and Σm(v²/2 + e) worked by hand for the four labelled particles (masses 1–4,
+    /// velocities (0, k), energies 4–7), with an image present that must not count.
+    #[test]
+    fn totals_of_the_real_particles() {
+        let mut p = labelled();
+        p.velocity[3] = Vector::<2>::new(2.0, 3.0);
+        p.push_image(3, Vector::<2>::new(-1.0, 1.0), Vector::zeros(), true);
+        assert!(!p.is_empty() && Particles::<2>::new(&[], OptionalFields::default()).is_empty());
+        assert_eq!(p.total_mass(), 10.0);
+        // Σ m v: 2·(0, 1) + 3·(0, 2) + 4·(2, 3)
+        assert_eq!(p.total_momentum(), Vector::<2>::new(8.0, 20.0));
+        // Σ m (v²/2 + e): 1·4 + 2·(1/2 + 5) + 3·(2 + 6) + 4·(13/2 + 7)
+        assert_eq!(p.total_energy(), 4.0 + 11.0 + 24.0 + 54.0);
+    }
+
+    /// The peak density kept where the scene remembers one, the density where it does not;
+    /// the yield state gathers its particle's own fields.
+    #[test]
+    fn peak_density_and_yield_state_read_their_particle() {
+        let mut p = labelled();
+        p.peak_density[2] = 8.5;
+        assert_eq!(p.peak_density_of(2), 8.5);
+        p.pressure[2] = 1e6;
+        p.strain_rate[2] = 3.0;
+        p.plastic_work[2] = 7.0;
+        let state = p.yield_state(2);
+        assert_eq!(
+            (
+                state.plastic_strain,
+                state.pressure,
+                state.strain_rate,
+                state.plastic_work
+            ),
+            (2.0, 1e6, 3.0, 7.0)
+        );
+        let init = [ParticleInit {
+            position: Vector::<1>::zeros(),
+            velocity: Vector::<1>::zeros(),
+            mass: 1.0,
+            smoothing_length: 1.0,
+            density: 2.5,
+            internal_energy: 0.0,
+            material: 0,
+        }];
+        let forgetful = Particles::new(&init, OptionalFields::default());
+        assert_eq!(forgetful.peak_density_of(0), 2.5);
+    }
 }
