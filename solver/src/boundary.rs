@@ -382,14 +382,18 @@ mod tests {
         )
     }
 
-    /// Every image the unit box can make of each particle, without any reach test: mirrors
-    /// across each wall (and both walls' corners) and copies shifted by ±1 along a periodic
-    /// axis, as (key, position).
+    /// Every image a unit box [lo, lo + 1]² can make of each particle, without any reach test:
+    /// mirrors across each wall, x ↦ 2 lo − x and 2 hi − x (and both walls' corners), and
+    /// copies shifted by ±1 along a periodic axis, as (key, position).
     fn every_image(domain: &Domain<2>, x: &[Vector<2>]) -> Vec<(ImageKey, Vector<2>)> {
         let per_axis = |a: usize| -> Vec<(f64, f64)> {
             match domain.lower[a] {
                 Boundary::Periodic => vec![(1.0, 0.0), (1.0, 1.0), (1.0, -1.0)],
-                _ => vec![(1.0, 0.0), (-1.0, 0.0), (-1.0, 2.0)],
+                _ => vec![
+                    (1.0, 0.0),
+                    (-1.0, 2.0 * domain.lo[a]),
+                    (-1.0, 2.0 * domain.hi[a]),
+                ],
             }
         };
         let mut images = Vec::new();
@@ -416,24 +420,29 @@ mod tests {
 
         /// The images kept give every real particle the same image partners as every image the
         /// box can make: mirror walls on both axes, or a wall and a periodic axis; h varies
-        /// fourfold, and a few particles have an h ten times the rest (a blast's centre).
+        /// fourfold, and a few particles have an h ten times the rest (a blast's centre). The
+        /// box's corner is moved off the origin (by quarters, so the keys stay exact).
         #[test]
         fn kept_images_are_every_image_a_real_particle_reaches(
+            corner in (-8i32..8, -8i32..8),
             coords in proptest::collection::vec(0.0f64..1.0, 120),
             hs in proptest::collection::vec(0.02f64..0.08, 60),
             large in proptest::collection::vec(0usize..60, 0..3),
             periodic in any::<bool>(),
             larger_h in any::<bool>(),
         ) {
-            let x: Vec<Vector<2>> =
-                coords.chunks_exact(2).map(|c| Vector::<2>::new(c[0], c[1])).collect();
+            let lo = Vector::<2>::new(0.25 * corner.0 as f64, 0.25 * corner.1 as f64);
+            let x: Vec<Vector<2>> = coords
+                .chunks_exact(2)
+                .map(|c| lo + Vector::<2>::new(c[0], c[1]))
+                .collect();
             let mut h = hs.clone();
             for &k in &large {
                 h[k] = 0.3;
             }
             let domain = Domain::new(
-                Vector::<2>::zeros(),
-                Vector::<2>::repeat(1.0),
+                lo,
+                lo + Vector::<2>::repeat(1.0),
                 [Boundary::Wall, if periodic { Boundary::Periodic } else { Boundary::Wall }],
             );
             let pair_reach = if larger_h { PairReach::LargerH } else { PairReach::MeanH };
@@ -506,5 +515,83 @@ mod tests {
         assert_eq!(p.position[0], Vector::<2>::new(0.01, 0.5));
         assert_eq!(p.velocity[0], Vector::<2>::new(2.0, 1.0));
         assert_eq!(impulse, Vector::<2>::new(12.0, 0.0));
+    }
+
+    /// A side is periodic on both ends of its axis or on neither, and an axis needs lo < hi:
+    /// anything else is refused, naming the axis.
+    #[test]
+    fn sides_and_extents_are_checked_per_axis() {
+        let (lo, hi) = (Vector::<2>::zeros(), Vector::<2>::repeat(1.0));
+        let (wall, periodic) = (Boundary::Wall, Boundary::Periodic);
+        assert!(Domain::with_sides(lo, hi, [wall, periodic], [wall, periodic]).is_ok());
+        let mixed = Domain::with_sides(lo, hi, [wall, periodic], [wall, wall]).unwrap_err();
+        assert!(mixed.to_string().contains("boundary on axis 1"), "{mixed}");
+        let flat = Vector::<2>::new(1.0, 0.0);
+        let empty = Domain::with_sides(lo, flat, [wall; 2], [wall; 2]).unwrap_err();
+        assert!(empty.to_string().contains("domain on axis 1"), "{empty}");
+    }
+
+    /// Images are made within the largest reach of a side and then kept only where a real
+    /// particle's kernel can reach them: in the unit box with walls all round, a particle A at
+    /// (0.9, 0.9) with reach 0.6 and a particle B at (0.5, 0.2) with reach 0.04. B lies within
+    /// 0.6 of three walls, but its mirrors there stand 0.4 to 1 from every real particle: none
+    /// is kept. A keeps its mirrors across x = 1 and y = 1 and their corner, 0.2 to 0.28 away.
+    #[test]
+    fn images_no_real_particle_reaches_are_dropped() {
+        let init: Vec<ParticleInit<2>> = [(0.9, 0.9, 0.3), (0.5, 0.2, 0.02)]
+            .iter()
+            .map(|&(x, y, h)| ParticleInit {
+                position: Vector::<2>::new(x, y),
+                velocity: Vector::zeros(),
+                mass: 1.0,
+                smoothing_length: h,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            })
+            .collect();
+        let mut p = Particles::new(&init, OptionalFields::default());
+        let domain = Domain::new(
+            Vector::<2>::zeros(),
+            Vector::<2>::repeat(1.0),
+            [Boundary::Wall; 2],
+        );
+        domain.make_images(&mut p, &[0.6, 0.04]);
+        let mut kept: Vec<Vector<2>> = (2..p.len()).map(|k| p.position[k]).collect();
+        assert!((2..p.len()).all(|k| p.real_index(k) == 0), "{kept:?}");
+        kept.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+        let expected = [(0.9, 1.1), (1.1, 0.9), (1.1, 1.1)];
+        assert_eq!(kept.len(), expected.len(), "{kept:?}");
+        for (x, (ex, ey)) in kept.iter().zip(expected) {
+            assert!((x - Vector::<2>::new(ex, ey)).norm() < 1e-12, "{kept:?}");
+        }
+    }
+
+    /// A particle that left a periodic box [−1, 3) re-enters on the other side, as far in as it
+    /// went out (x ↦ lo + (x − lo) mod L); one inside, or on a wall axis, is not moved.
+    #[test]
+    fn a_particle_leaving_a_periodic_side_comes_back_at_the_other() {
+        let init: Vec<ParticleInit<2>> = [(3.5, 3.5), (-1.25, 0.0), (2.0, -1.5)]
+            .iter()
+            .map(|&(x, y)| ParticleInit {
+                position: Vector::<2>::new(x, y),
+                velocity: Vector::zeros(),
+                mass: 1.0,
+                smoothing_length: 0.1,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            })
+            .collect();
+        let mut p = Particles::new(&init, OptionalFields::default());
+        let domain = Domain::new(
+            Vector::<2>::repeat(-1.0),
+            Vector::<2>::repeat(3.0),
+            [Boundary::Periodic, Boundary::Wall],
+        );
+        domain.wrap_periodic(&mut p);
+        assert_eq!(p.position[0], Vector::<2>::new(-0.5, 3.5));
+        assert_eq!(p.position[1], Vector::<2>::new(2.75, 0.0));
+        assert_eq!(p.position[2], Vector::<2>::new(2.0, -1.5));
     }
 }
