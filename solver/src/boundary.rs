@@ -492,19 +492,28 @@ mod tests {
         }
     }
 
-    /// A particle that crossed the lower wall comes back mirrored with its normal velocity
-    /// reversed, and the wall books the impulse 2 m |v_n| along its inward normal.
+    /// A particle that crossed a wall comes back mirrored with its normal velocity reversed,
+    /// and the wall books the impulse 2 m |v_n| along its inward normal: the lower wall of x
+    /// pushes +x, the upper wall of y pushes −y. A particle on a wall has not crossed it and
+    /// is left alone.
     #[test]
     fn a_particle_through_a_wall_bounces_back_and_the_wall_takes_the_impulse() {
-        let init = [ParticleInit {
-            position: Vector::<2>::new(-0.01, 0.5),
-            velocity: Vector::<2>::new(-2.0, 1.0),
-            mass: 3.0,
+        let init: Vec<ParticleInit<2>> = [
+            ((-0.01, 0.5), (-2.0, 1.0), 3.0),
+            ((0.5, 1.02), (1.0, 4.0), 0.5),
+            ((0.0, 0.5), (-1.0, 0.0), 1.0),
+        ]
+        .iter()
+        .map(|&((x, y), (u, v), mass)| ParticleInit {
+            position: Vector::<2>::new(x, y),
+            velocity: Vector::<2>::new(u, v),
+            mass,
             smoothing_length: 0.1,
             density: 1.0,
             internal_energy: 1.0,
             material: 0,
-        }];
+        })
+        .collect();
         let mut p = Particles::new(&init, OptionalFields::default());
         let domain = Domain::new(
             Vector::<2>::zeros(),
@@ -514,7 +523,26 @@ mod tests {
         let impulse = domain.reflect_at_walls(&mut p);
         assert_eq!(p.position[0], Vector::<2>::new(0.01, 0.5));
         assert_eq!(p.velocity[0], Vector::<2>::new(2.0, 1.0));
-        assert_eq!(impulse, Vector::<2>::new(12.0, 0.0));
+        assert!((p.position[1] - Vector::<2>::new(0.5, 0.98)).norm() < 1e-15);
+        assert_eq!(p.velocity[1], Vector::<2>::new(1.0, -4.0));
+        assert_eq!(p.position[2], Vector::<2>::new(0.0, 0.5));
+        assert_eq!(p.velocity[2], Vector::<2>::new(-1.0, 0.0));
+        // 2·3·2 = 12 along +x; 2·0.5·4 = 4 along −y
+        assert_eq!(impulse, Vector::<2>::new(12.0, -4.0));
+    }
+
+    /// The transmitting sides are listed with their plane and outward normal, lower before
+    /// upper, axis by axis; walls, periodic and open sides are not.
+    #[test]
+    fn transmitting_sides_are_listed_with_their_outward_normal() {
+        let (t, w) = (Boundary::Transmitting, Boundary::Wall);
+        let lo = Vector::<3>::new(-1.0, -2.0, -3.0);
+        let hi = Vector::<3>::new(1.0, 2.0, 3.0);
+        let domain = Domain::with_sides(lo, hi, [t, w, Boundary::Open], [t, t, w]).unwrap();
+        assert_eq!(
+            domain.transmitting_sides(),
+            vec![(0, -1.0, -1.0), (0, 1.0, 1.0), (1, 2.0, 1.0)]
+        );
     }
 
     /// A side is periodic on both ends of its axis or on neither, and an axis needs lo < hi:
