@@ -622,4 +622,55 @@ mod tests {
         assert_eq!(p.position[1], Vector::<2>::new(2.75, 0.0));
         assert_eq!(p.position[2], Vector::<2>::new(2.0, -1.5));
     }
+
+    /// The reach map is resolved along the side: in a box [0, 3] × [0, 1] with walls, two
+    /// particles of reach 0.6 at (0.1, 0.3) and (2.9, 0.3) cross the plane y = 0 over
+    /// x ∈ [−0.42, 0.62] and [2.38, 3.42], and a particle of reach 0.04 at (1.5, 0.2) between
+    /// them has its mirror across y = 0 made (0.2 from the wall) but dropped: no sphere covers
+    /// x = 1.5 beyond the wall. Each wide particle keeps its three mirrors.
+    #[test]
+    fn the_reach_map_drops_an_image_between_two_reaching_particles() {
+        let init: Vec<ParticleInit<2>> = [(0.1, 0.3), (2.9, 0.3), (1.5, 0.2)]
+            .iter()
+            .map(|&(x, y)| ParticleInit {
+                position: Vector::<2>::new(x, y),
+                velocity: Vector::zeros(),
+                mass: 1.0,
+                smoothing_length: 0.1,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            })
+            .collect();
+        let mut p = Particles::new(&init, OptionalFields::default());
+        let domain = Domain::new(
+            Vector::<2>::zeros(),
+            Vector::<2>::new(3.0, 1.0),
+            [Boundary::Wall; 2],
+        );
+        domain.make_images(&mut p, &[0.6, 0.6, 0.04]);
+        let sources: Vec<usize> = (3..p.len()).map(|k| p.real_index(k)).collect();
+        assert_eq!(sources.len(), 6, "{sources:?}");
+        assert!(sources.iter().all(|&s| s != 2), "{sources:?}");
+    }
+
+    /// `outside_wall` names the axis of a wall a point has passed, lower or upper; open and
+    /// periodic sides, and the wall's own plane, do not count.
+    #[test]
+    fn outside_wall_names_the_axis_passed() {
+        let domain = Domain::with_sides(
+            Vector::<2>::zeros(),
+            Vector::<2>::repeat(1.0),
+            [Boundary::Open, Boundary::Wall],
+            [Boundary::Wall, Boundary::Wall],
+        )
+        .unwrap();
+        let at = |x: f64, y: f64| domain.outside_wall(&Vector::<2>::new(x, y));
+        assert_eq!(at(0.5, 0.5), None);
+        assert_eq!(at(-0.5, 0.5), None);
+        assert_eq!(at(1.5, 0.5), Some(0));
+        assert_eq!(at(0.5, -0.1), Some(1));
+        assert_eq!(at(0.5, 1.1), Some(1));
+        assert_eq!(at(1.0, 0.0), None);
+    }
 }
