@@ -673,4 +673,33 @@ mod tests {
         assert_eq!(at(0.5, 1.1), Some(1));
         assert_eq!(at(1.0, 0.0), None);
     }
+
+    /// Only walls and periodic sides make images: a particle beside an open or transmitting
+    /// side has none there, while its mirror across the wall at the other end is made.
+    #[test]
+    fn open_and_transmitting_sides_make_no_images() {
+        for upper in [Boundary::Open, Boundary::Transmitting] {
+            let init = [ParticleInit {
+                position: Vector::<2>::new(0.5, 0.95),
+                velocity: Vector::zeros(),
+                mass: 1.0,
+                smoothing_length: 0.1,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            }];
+            let mut p = Particles::new(&init, OptionalFields::default());
+            let domain = Domain::with_sides(
+                Vector::<2>::zeros(),
+                Vector::<2>::repeat(1.0),
+                [Boundary::Open, Boundary::Wall],
+                [Boundary::Open, upper],
+            )
+            .unwrap();
+            // the particle reaches the upper side (0.05 away) and the lower wall (0.95)
+            domain.make_images(&mut p, &[1.0]);
+            assert_eq!(p.len(), 2, "{upper:?}");
+            assert_eq!(p.position[1], Vector::<2>::new(0.5, -0.95), "{upper:?}");
+        }
+    }
 }
