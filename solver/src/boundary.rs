@@ -494,14 +494,15 @@ mod tests {
 
     /// A particle that crossed a wall comes back mirrored with its normal velocity reversed,
     /// and the wall books the impulse 2 m |v_n| along its inward normal: the lower wall of x
-    /// pushes +x, the upper wall of y pushes −y. A particle on a wall has not crossed it and
-    /// is left alone.
+    /// pushes +x, the upper wall of y pushes −y. A particle on a wall (lower or upper) has not
+    /// crossed it and is left alone.
     #[test]
     fn a_particle_through_a_wall_bounces_back_and_the_wall_takes_the_impulse() {
         let init: Vec<ParticleInit<2>> = [
             ((-0.01, 0.5), (-2.0, 1.0), 3.0),
             ((0.5, 1.02), (1.0, 4.0), 0.5),
             ((0.0, 0.5), (-1.0, 0.0), 1.0),
+            ((0.5, 1.0), (0.0, 1.0), 1.0),
         ]
         .iter()
         .map(|&((x, y), (u, v), mass)| ParticleInit {
@@ -527,6 +528,7 @@ mod tests {
         assert_eq!(p.velocity[1], Vector::<2>::new(1.0, -4.0));
         assert_eq!(p.position[2], Vector::<2>::new(0.0, 0.5));
         assert_eq!(p.velocity[2], Vector::<2>::new(-1.0, 0.0));
+        assert_eq!(p.velocity[3], Vector::<2>::new(0.0, 1.0));
         // 2·3·2 = 12 along +x; 2·0.5·4 = 4 along −y
         assert_eq!(impulse, Vector::<2>::new(12.0, -4.0));
     }
