@@ -382,6 +382,19 @@ mod tests {
         )
     }
 
+    /// A particle of density 1 and h = 0.1 (the tests below pass reaches explicitly).
+    fn particle(position: (f64, f64), velocity: (f64, f64), mass: f64) -> ParticleInit<2> {
+        ParticleInit {
+            position: Vector::<2>::new(position.0, position.1),
+            velocity: Vector::<2>::new(velocity.0, velocity.1),
+            mass,
+            smoothing_length: 0.1,
+            density: 1.0,
+            internal_energy: 1.0,
+            material: 0,
+        }
+    }
+
     /// Every image a unit box [lo, lo + 1]² can make of each particle, without any reach test:
     /// mirrors across each wall, x ↦ 2 lo − x and 2 hi − x (and both walls' corners), and
     /// copies shifted by ±1 along a periodic axis, as (key, position).
@@ -505,15 +518,7 @@ mod tests {
             ((0.5, 1.0), (0.0, 1.0), 1.0),
         ]
         .iter()
-        .map(|&((x, y), (u, v), mass)| ParticleInit {
-            position: Vector::<2>::new(x, y),
-            velocity: Vector::<2>::new(u, v),
-            mass,
-            smoothing_length: 0.1,
-            density: 1.0,
-            internal_energy: 1.0,
-            material: 0,
-        })
+        .map(|&(x, v, mass)| particle(x, v, mass))
         .collect();
         let mut p = Particles::new(&init, OptionalFields::default());
         let domain = Domain::new(
@@ -568,18 +573,7 @@ mod tests {
     /// is kept. A keeps its mirrors across x = 1 and y = 1 and their corner, 0.2 to 0.28 away.
     #[test]
     fn images_no_real_particle_reaches_are_dropped() {
-        let init: Vec<ParticleInit<2>> = [(0.9, 0.9, 0.3), (0.5, 0.2, 0.02)]
-            .iter()
-            .map(|&(x, y, h)| ParticleInit {
-                position: Vector::<2>::new(x, y),
-                velocity: Vector::zeros(),
-                mass: 1.0,
-                smoothing_length: h,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            })
-            .collect();
+        let init = [(0.9, 0.9), (0.5, 0.2)].map(|x| particle(x, (0.0, 0.0), 1.0));
         let mut p = Particles::new(&init, OptionalFields::default());
         let domain = Domain::new(
             Vector::<2>::zeros(),
@@ -601,18 +595,7 @@ mod tests {
     /// went out (x ↦ lo + (x − lo) mod L); one inside, or on a wall axis, is not moved.
     #[test]
     fn a_particle_leaving_a_periodic_side_comes_back_at_the_other() {
-        let init: Vec<ParticleInit<2>> = [(3.5, 3.5), (-1.25, 0.0), (2.0, -1.5)]
-            .iter()
-            .map(|&(x, y)| ParticleInit {
-                position: Vector::<2>::new(x, y),
-                velocity: Vector::zeros(),
-                mass: 1.0,
-                smoothing_length: 0.1,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            })
-            .collect();
+        let init = [(3.5, 3.5), (-1.25, 0.0), (2.0, -1.5)].map(|x| particle(x, (0.0, 0.0), 1.0));
         let mut p = Particles::new(&init, OptionalFields::default());
         let domain = Domain::new(
             Vector::<2>::repeat(-1.0),
@@ -632,18 +615,7 @@ mod tests {
     /// x = 1.5 beyond the wall. Each wide particle keeps its three mirrors.
     #[test]
     fn the_reach_map_drops_an_image_between_two_reaching_particles() {
-        let init: Vec<ParticleInit<2>> = [(0.1, 0.3), (2.9, 0.3), (1.5, 0.2)]
-            .iter()
-            .map(|&(x, y)| ParticleInit {
-                position: Vector::<2>::new(x, y),
-                velocity: Vector::zeros(),
-                mass: 1.0,
-                smoothing_length: 0.1,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            })
-            .collect();
+        let init = [(0.1, 0.3), (2.9, 0.3), (1.5, 0.2)].map(|x| particle(x, (0.0, 0.0), 1.0));
         let mut p = Particles::new(&init, OptionalFields::default());
         let domain = Domain::new(
             Vector::<2>::zeros(),
@@ -681,15 +653,7 @@ mod tests {
     #[test]
     fn open_and_transmitting_sides_make_no_images() {
         for upper in [Boundary::Open, Boundary::Transmitting] {
-            let init = [ParticleInit {
-                position: Vector::<2>::new(0.5, 0.95),
-                velocity: Vector::zeros(),
-                mass: 1.0,
-                smoothing_length: 0.1,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            }];
+            let init = [particle((0.5, 0.95), (0.0, 0.0), 1.0)];
             let mut p = Particles::new(&init, OptionalFields::default());
             let domain = Domain::with_sides(
                 Vector::<2>::zeros(),
