@@ -109,6 +109,9 @@ particle_store! {
         signal_speed: f64,
         /// Each particle's own viscosity α (Morris & Monaghan's switch); empty without it.
         viscosity_alpha: f64,
+        /// XSPH's correction to the drift velocity, ε Σ_j m_j/ρ̄_ij (v_j − v_i) W_ij, from the
+        /// last force evaluation; empty without XSPH.
+        xsph_velocity: Vector<D>,
         /// A constant acceleration from outside: the body force and support that hold the
         /// initial state in equilibrium (see `InitialState::held_in_equilibrium`); empty
         /// without one.

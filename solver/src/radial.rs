@@ -29,6 +29,7 @@ use crate::neighbours::NeighbourList;
 use crate::pairs::{self, PairEquation, Partners};
 use crate::particles::Particles;
 use crate::physics::{signal_speed, ArtificialViscosity, EnergyEquation};
+use crate::step::SimulationConfig;
 use crate::{Tensor, Vector};
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -562,21 +563,21 @@ impl<const D: usize> PairEquation<D, [f64; 3]> for RadialDivergence<'_> {
 /// ε̇_rr = ∇·v − 2v/r and ε̇_θθ = ε̇_φφ = v/r, the same ∇·v the pair sums give, so the stress
 /// conserves total energy as the pressure does. The Jaumann rate of s_rr is the 1D rate with
 /// two out-of-plane normal rates v/r (no spin in radial flow). `shear_modulus[m]` is material
-/// m's G (0 for a fluid); empty in a fluid scene. For the real particles `which`; the others
+/// m's G (0 for a fluid); empty in a fluid scene. With XSPH (ε = `config.xsph` > 0) each
+/// shell's drift correction ε Σ_j m_j/ρ̄_ij (v_j − v_i) W̃_ij too. For the real particles `which`; the others
 /// keep their rates.
 pub(crate) fn radial_rates<const D: usize>(
     particles: &mut Particles<D>,
     shell_pairs: &ShellPairs,
     kernel: &RadialKernel,
-    viscosity: &ArtificialViscosity,
-    energy: EnergyEquation,
+    config: &SimulationConfig,
     shear_modulus: &[f64],
     which: &[usize],
 ) {
     let equation = RadialRates {
         kernel,
-        viscosity,
-        energy,
+        viscosity: &config.viscosity,
+        energy: config.energy,
         volume_form: !particles.density_rate.is_empty(),
     };
     let rates = pairs::gather_at(&equation, particles, shell_pairs, which);
@@ -585,6 +586,9 @@ pub(crate) fn radial_rates<const D: usize>(
         p.acceleration[i] = Vector::from_fn(|a, _| if a == 0 { rate.acceleration } else { 0.0 });
         p.energy_rate[i] = rate.heating;
         p.signal_speed[i] = rate.signal_speed;
+        if let Some(drift) = p.xsph_velocity.get_mut(i) {
+            drift[0] = config.xsph * rate.mean_motion;
+        }
         if equation.volume_form {
             p.density_rate[i] = p.density[i] * rate.divergence;
         }
@@ -629,6 +633,8 @@ struct ShellRates {
     /// −∇·v: Σ_j V_j (v_i d₁ + v_j d₂) + V_i v_i s_i, which Dρ/Dt divides by ρ (with summation
     /// density m_j/ρ_i in place of V_j, the weights of its heating).
     divergence: f64,
+    /// Σ_j m_j/ρ̄_ij (v_j − v_i) W̃_ij: the neighbours' motion relative to the shell's (XSPH).
+    mean_motion: f64,
 }
 
 /// The pass of [`radial_rates`]: per real particle Dv/Dt, De/Dt, the signal speed and the
@@ -686,6 +692,7 @@ impl<const D: usize> PairEquation<D, [f64; 3]> for RadialRates<'_> {
             heating: own * m_i * me.velocity * self_slope,
             signal_speed: me.sound_speed,
             divergence: m_i / me.density * me.velocity * self_slope,
+            mean_motion: 0.0,
         }
     }
 
@@ -695,11 +702,12 @@ impl<const D: usize> PairEquation<D, [f64; 3]> for RadialRates<'_> {
         let own = me.pressure_term * self.partner_factor(other);
         let (r_j, v_j, m_j) = (other.radius, other.velocity, other.mass);
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        let [_, d1, d2] = *kernel;
+        let [w, d1, d2] = *kernel;
         let g = 0.5 * (d1 - d2);
         let (x_ij, v_ij) = (r_i - r_j, v_i - v_j);
         let c_mean = 0.5 * (me.sound_speed + other.sound_speed);
         let rho_mean = 0.5 * (me.density + other.density);
+        sum.mean_motion -= m_j / rho_mean * v_ij * w;
         let pi_ij = self
             .viscosity
             .pi(v_ij * x_ij, x_ij * x_ij, h, c_mean, rho_mean)
