@@ -525,16 +525,25 @@ fn tunnel_command(
     }
     let bar = ProgressBar::new(1000);
     bar.set_style(
-        ProgressStyle::with_template("{msg:24} [{bar:40}] {percent:>3}% eta {eta}")
-            .expect("valid template"),
+        ProgressStyle::with_template("[{bar:40}] {percent:>3}% {msg}").expect("valid template"),
     );
+    // several runs go at once: the bar shows the least advanced, the message all of them
+    let running = std::sync::Mutex::new(std::collections::BTreeMap::<String, f64>::new());
     let outcome = tunnel::run_study(
         request,
         accept_unvalidated,
         out,
         &|name, f| {
-            bar.set_message(name.to_string());
-            bar.set_position((f * 1000.0) as u64);
+            let mut running = running.lock().expect("no progress update panicked");
+            if f < 1.0 {
+                running.insert(name.to_string(), f);
+            } else {
+                running.remove(name);
+            }
+            let least = running.values().copied().fold(1.0, f64::min);
+            let names: Vec<&str> = running.keys().map(String::as_str).collect();
+            bar.set_message(names.join(" | "));
+            bar.set_position((least * 1000.0) as u64);
         },
         checkpoints,
     )?;

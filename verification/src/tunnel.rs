@@ -29,6 +29,7 @@ use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{Kernel, KernelShape, PrescribedMotion, Simulation, Tensor, Vector};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -98,6 +99,11 @@ const GRAVITY: f64 = 9.81;
 const TNT_DENSITY: f64 = 1630.0;
 /// Smoothing length over spacing in both runs (the scenes' default).
 const ETA: f64 = 1.3;
+
+/// A stress in Pa as MPa for reports, to the nearest kPa.
+fn round_to_kpa(pa: f64) -> f64 {
+    (pa * 1e-3).round() * 1e-3
+}
 
 /// The radius of a TNT hemisphere of `charge_kg`.
 pub fn hemisphere_radius(charge_kg: f64) -> f64 {
@@ -937,19 +943,6 @@ pub fn run_study(
         ..Soil::default()
     };
     let tunnel = request.tunnel;
-    let mut cases = Vec::new();
-    for &charge_kg in &request.charges_kg {
-        cases.extend(run_charge(
-            charge_kg,
-            &request.depths_m,
-            &soil,
-            tunnel,
-            QUICK,
-            out,
-            progress,
-            checkpoints,
-        )?);
-    }
     // resolution: the shallowest depth under the smallest charge again, with the section and
     // free field refined by 1.5
     let (first_depth, first_charge) = (request.depths_m[0], request.charges_kg[0]);
@@ -957,16 +950,42 @@ pub fn run_study(
         across_charge: 6,
         across_lining: 6,
     };
-    let refined = run_charge(
-        first_charge,
-        &[first_depth],
-        &soil,
-        tunnel,
-        fine,
-        &out.join("resolution"),
-        progress,
-        checkpoints,
-    )?;
+    // every run is deterministic on its own, so they share the worker threads: one run's
+    // passes are too short to keep both busy
+    let (cases, refined) = rayon::join(
+        || {
+            request
+                .charges_kg
+                .par_iter()
+                .map(|&charge_kg| {
+                    run_charge(
+                        charge_kg,
+                        &request.depths_m,
+                        &soil,
+                        tunnel,
+                        QUICK,
+                        out,
+                        progress,
+                        checkpoints,
+                    )
+                })
+                .collect::<Result<Vec<_>, _>>()
+        },
+        || {
+            run_charge(
+                first_charge,
+                &[first_depth],
+                &soil,
+                tunnel,
+                fine,
+                &out.join("resolution"),
+                progress,
+                checkpoints,
+            )
+        },
+    );
+    let cases: Vec<CaseReport> = cases?.into_iter().flatten().collect();
+    let refined = refined?;
     let checks = study_checks(request, &gate, &cases, &refined[0])?;
     let (safe_depth_m, scaled_safe_depth_m_kg13) = safe_depths(request, &cases);
     Ok(Outcome::Done(Box::new(Study {
@@ -1070,72 +1089,109 @@ pub fn run_charge(
         }
     };
     let recording = Arc::new(recording);
-    let mut reports = Vec::new();
-    for (k, (run, kept)) in runs.sections.into_iter().zip(kept).enumerate() {
-        if let Some(report) = kept {
-            reports.push(report);
-            continue;
-        }
-        let (case, dir) = (run.case, folder(run.case));
-        let motion: Arc<dyn PrescribedMotion<2>> = Arc::new(BandMotion {
-            sources: run.sources,
-            recording: recording.clone(),
-        });
-        let label = format!("{} m, {} kg", case.depth_m, case.charge_kg);
-        let mut faces = CrownFaces::new(&run.section, tunnel, resolution.across_lining);
-        // the band's motion comes from the free field, which the case's hash covers
-        let checkpoints = Checkpoints {
-            context: run.inputs_hash.clone(),
-            ..checkpoints.clone()
-        };
-        let section = run_with(
-            &run.with,
-            &dir.join("section"),
-            &mut |f| progress(&label, f),
-            &|_, _| Some(motion.clone()),
-            &mut faces,
-            &checkpoints,
-        )?;
-        let empty = run_with::<2, ()>(
-            &run.without,
-            &dir.join("section-without-tunnel"),
-            &mut |_| {},
-            &|_, _| Some(motion.clone()),
-            &mut (),
-            &checkpoints,
-        )?;
-        let mut gauges = BTreeMap::new();
-        gauges.insert("crown".to_string(), GaugeReading::of(&section, "crown"));
-        gauges.insert("invert".to_string(), GaugeReading::of(&section, "invert"));
-        let at_crown = GaugeReading::of(&free, &format!("at-crown-{k}"));
-        let reduction_ratio =
-            GaugeReading::of(&empty, "crown").peak_velocity_m_s / at_crown.peak_velocity_m_s;
-        gauges.insert("free_field_at_crown".to_string(), at_crown);
-        gauges.insert(
-            "free_field_side".to_string(),
-            GaugeReading::of(&free, &format!("side-{k}")),
-        );
-        let lining = Lining {
-            plastic_particles: section.yielded.get("lining").copied().unwrap_or(0),
-            failed_particles: section.failed.get("lining").copied().unwrap_or(0),
-            crown_face_peak_von_mises_pa: faces.peak_pa,
-        };
-        let report = CaseReport {
-            depth_m: case.depth_m,
-            charge_kg,
-            gauges,
-            lining,
-            energy_relative_error: section.energy_change_j.abs()
-                / section.energy_exchanged_j.abs().max(f64::MIN_POSITIVE),
-            reduction_ratio,
-            wall_s: section.wall_s + empty.wall_s + free.wall_s / depths_m.len() as f64,
-            stopped: free.stopped.clone().or(section.stopped).or(empty.stopped),
-            reused: false,
-        };
-        crate::cache::keep(&dir.join(KEPT_CASE), &run.inputs_hash, &report)?;
-        reports.push(report);
-    }
-    Ok(reports)
+    let sections: Vec<_> = runs.sections.into_iter().zip(kept).enumerate().collect();
+    sections
+        .into_par_iter()
+        .map(|(k, (run, kept))| match kept {
+            Some(report) => Ok(report),
+            None => {
+                let dir = folder(run.case);
+                let driver = (&recording, &free, depths_m.len());
+                run_section(
+                    k,
+                    run,
+                    &dir,
+                    driver,
+                    tunnel,
+                    resolution,
+                    progress,
+                    checkpoints,
+                )
+            }
+        })
+        .collect()
+}
+
+/// One case's section with and without the tunnel (side by side), driven by the charge's
+/// free field `(recording, summary, cases)` (`cases` runs share its wall time); its report,
+/// kept in `dir`. `k` is the case's place among the charge's depths (its free-field gauges
+/// are numbered by it).
+#[allow(clippy::too_many_arguments)]
+fn run_section(
+    k: usize,
+    run: SectionRun,
+    dir: &Path,
+    (recording, free, cases): (&Arc<Recording>, &RunSummary, usize),
+    tunnel: Tunnel,
+    resolution: Resolution,
+    progress: &(dyn Fn(&str, f64) + Sync),
+    checkpoints: &Checkpoints,
+) -> Result<CaseReport, VerifyError> {
+    let case = run.case;
+    let motion: Arc<dyn PrescribedMotion<2>> = Arc::new(BandMotion {
+        sources: run.sources,
+        recording: recording.clone(),
+    });
+    let label = format!("{} m, {} kg", case.depth_m, case.charge_kg);
+    let mut faces = CrownFaces::new(&run.section, tunnel, resolution.across_lining);
+    // the band's motion comes from the free field, which the case's hash covers
+    let checkpoints = Checkpoints {
+        context: run.inputs_hash.clone(),
+        ..checkpoints.clone()
+    };
+    let (section, empty) = rayon::join(
+        || {
+            run_with(
+                &run.with,
+                &dir.join("section"),
+                &mut |f| progress(&label, f),
+                &|_, _| Some(motion.clone()),
+                &mut faces,
+                &checkpoints,
+            )
+        },
+        || {
+            run_with::<2, ()>(
+                &run.without,
+                &dir.join("section-without-tunnel"),
+                &mut |_| {},
+                &|_, _| Some(motion.clone()),
+                &mut (),
+                &checkpoints,
+            )
+        },
+    );
+    let (section, empty) = (section?, empty?);
+    let mut gauges = BTreeMap::new();
+    gauges.insert("crown".to_string(), GaugeReading::of(&section, "crown"));
+    gauges.insert("invert".to_string(), GaugeReading::of(&section, "invert"));
+    let at_crown = GaugeReading::of(free, &format!("at-crown-{k}"));
+    let reduction_ratio =
+        GaugeReading::of(&empty, "crown").peak_velocity_m_s / at_crown.peak_velocity_m_s;
+    gauges.insert("free_field_at_crown".to_string(), at_crown);
+    gauges.insert(
+        "free_field_side".to_string(),
+        GaugeReading::of(free, &format!("side-{k}")),
+    );
+    let lining = Lining {
+        plastic_particles: section.yielded.get("lining").copied().unwrap_or(0),
+        failed_particles: section.failed.get("lining").copied().unwrap_or(0),
+        crown_face_peak_von_mises_pa: faces.peak_pa,
+    };
+    let report = CaseReport {
+        depth_m: case.depth_m,
+        charge_kg: case.charge_kg,
+        gauges,
+        lining,
+        energy_relative_error: section.energy_change_j.abs()
+            / section.energy_exchanged_j.abs().max(f64::MIN_POSITIVE),
+        reduction_ratio,
+        wall_s: section.wall_s + empty.wall_s + free.wall_s / cases as f64,
+        stopped: free.stopped.clone().or(section.stopped).or(empty.stopped),
+        reused: false,
+    };
+    crate::cache::keep(&dir.join(KEPT_CASE), &run.inputs_hash, &report)?;
+    Ok(report)
 }
 
 /// Limits of the study's checks. Arrival at the crown within 30 % of the free field's at that
@@ -1478,8 +1534,8 @@ fn report_content(study: &Study) -> ReportContent {
              study's defaults.",
             t.inner_diameter_m,
             t.lining_m,
-            1e-6 * t.lining_yield_pa,
-            1e-6 * t.lining_tensile_strength_pa
+            round_to_kpa(t.lining_yield_pa),
+            round_to_kpa(t.lining_tensile_strength_pa)
         ),
         format!(
             "Soil: {} (TM 5-855-1), simulated as the library's {} with Drucker–Prager \
