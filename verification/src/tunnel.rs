@@ -726,10 +726,13 @@ fn prepare_charge(
         .iter()
         .map(|(_, s)| (s.centre_z + outer - 0.25 * s.soil_spacing, side_r))
         .collect();
-    // the bands interpolate the free field over a few of its spacings: no coarser than three
-    // of the sections' soil spacings, whatever the charge (a large charge's doubling spacings
-    // would otherwise reach metres at the sections)
-    let far_spacing = 3.0 * geometry[0].1.soil_spacing;
+    // the bands interpolate the free field over a few of its spacings, and the front it
+    // brings must be resolved there: no coarser than 1.5 of the sections' soil spacings,
+    // whatever the charge (a large charge's doubling spacings would otherwise reach metres at
+    // the sections). At three, the free field's peak velocity at 10 m under 500 kg moved by
+    // 23 % when the study was refined by 1.5, and its front rose over 8.8 ms (10–90 %);
+    // at 1.5 it moves by 9 %
+    let far_spacing = 1.5 * geometry[0].1.soil_spacing;
     let free_text = |gauges: &[(f64, f64)]| {
         free_field_scene(
             charge_kg,
