@@ -563,9 +563,9 @@ impl<const D: usize> PairEquation<D, [f64; 3]> for RadialDivergence<'_> {
 /// ε̇_rr = ∇·v − 2v/r and ε̇_θθ = ε̇_φφ = v/r, the same ∇·v the pair sums give, so the stress
 /// conserves total energy as the pressure does. The Jaumann rate of s_rr is the 1D rate with
 /// two out-of-plane normal rates v/r (no spin in radial flow). `shear_modulus[m]` is material
-/// m's G (0 for a fluid); empty in a fluid scene. With XSPH (ε = `config.xsph` > 0) each
-/// shell's drift correction ε Σ_j m_j/ρ̄_ij (v_j − v_i) W̃_ij too. For the real particles `which`; the others
-/// keep their rates.
+/// m's G (0 for a fluid); empty in a fluid scene. With XSPH (ε = `config.xsph` > 0) also
+/// each shell's drift correction ε Σ_j m_j/ρ̄_ij (v_j − v_i) W̃_ij. For the real particles
+/// `which`; the others keep their rates.
 pub(crate) fn radial_rates<const D: usize>(
     particles: &mut Particles<D>,
     shell_pairs: &ShellPairs,

@@ -1792,7 +1792,7 @@ mod tests {
     }
 
     /// The crown's peak stresses at 10 m under 500 kg against particles across the lining
-    /// (printed; a study of the reduced model's convergence, about five minutes, so not in
+    /// (printed; a study of the reduced model's convergence, several minutes, so not in
     /// the default run: `cargo test --release -p blastsph-verification
     /// crown_stress_against -- --ignored --nocapture`). The study's own two-resolution check
     /// runs on every `blastsph tunnel`.
@@ -1819,11 +1819,13 @@ mod tests {
             let crown = &case.gauges["crown"];
             eprintln!(
                 "across the lining {across_lining}: crown von Mises {:.3e} Pa, on the faces \
-                 {:.3e} Pa, pressure {:.3e} Pa, velocity {:.3} m/s, lining plastic {}, wall {:.0} s",
+                 {:.3e} Pa, pressure {:.3e} Pa, velocity {:.3} m/s (free field {:.3} m/s), \
+                 lining plastic {}, wall {:.0} s",
                 crown.peak_von_mises_pa,
                 case.lining.crown_face_peak_von_mises_pa,
                 crown.peak_pressure_pa,
                 crown.peak_velocity_m_s,
+                case.gauges["free_field_at_crown"].peak_velocity_m_s,
                 case.lining.plastic_particles,
                 case.wall_s
             );
