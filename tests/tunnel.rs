@@ -1,7 +1,8 @@
 //! The tunnel study's quick model on the case the issue names for review: 10 m below 500 kg.
 
 use blastsph_verification::scene::Checkpoints;
-use blastsph_verification::tunnel::{run_charge, Soil, Tunnel, QUICK};
+use blastsph_verification::surface_burst::Soil;
+use blastsph_verification::tunnel::{run_charge, Tunnel, QUICK};
 use serde_json::{json, Value};
 use std::path::Path;
 

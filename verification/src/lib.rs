@@ -22,6 +22,7 @@ pub mod riemann;
 pub mod scaled;
 pub mod scene;
 pub mod sedov;
+pub mod surface_burst;
 pub mod svg;
 pub mod tunnel;
 pub mod vtk;

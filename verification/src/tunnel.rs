@@ -24,6 +24,7 @@ use crate::gate::{run_gate, GateRequest};
 use crate::problems::ground_shock::soil_model;
 use crate::record::Check;
 use crate::scene::{particles, run_with, Checkpoints, Observer, RunSummary, Scene};
+use crate::surface_burst::{ground, p_wave_speed, Soil, SurfaceBurst, ETA};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
 use blastsph_solver::particles::ParticleInit;
@@ -61,25 +62,6 @@ impl Default for Tunnel {
     }
 }
 
-/// The soil of the study: a library material with Drucker–Prager strength.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Soil {
-    pub library: String,
-    pub cohesion_pa: f64,
-    pub friction_angle_degrees: f64,
-}
-
-impl Default for Soil {
-    fn default() -> Self {
-        // the gated sand of `ground-shock-spherical`
-        Self {
-            library: "dry-sand".into(),
-            cohesion_pa: 0.0,
-            friction_angle_degrees: 30.0,
-        }
-    }
-}
-
 /// One case: the crown's depth below the ground and the charge.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Case {
@@ -95,19 +77,9 @@ pub struct Resolution {
     pub across_lining: usize,
 }
 
-const GRAVITY: f64 = 9.81;
-const TNT_DENSITY: f64 = 1630.0;
-/// Smoothing length over spacing in both runs (the scenes' default).
-const ETA: f64 = 1.3;
-
 /// A stress in Pa as MPa for reports, to the nearest kPa.
 fn round_to_kpa(pa: f64) -> f64 {
     (pa * 1e-3).round() * 1e-3
-}
-
-/// The radius of a TNT hemisphere of `charge_kg`.
-pub fn hemisphere_radius(charge_kg: f64) -> f64 {
-    (3.0 * charge_kg / (2.0 * std::f64::consts::PI * TNT_DENSITY)).cbrt()
 }
 
 /// The section: centred on the tunnel, half a side `half_width_m`, its band `band_m` thick.
@@ -137,108 +109,6 @@ impl Section {
             soil_spacing,
         }
     }
-}
-
-/// What both scenes of a case share: gravity with the ground's surface at z = 0, the
-/// smoothing, and the soil as material "soil".
-fn ground(soil: &Soil) -> String {
-    format!(
-        r#"[gravity]
-acceleration = {GRAVITY}
-surface = 0.0
-
-[numerics]
-eta = {ETA}
-
-[[material]]
-name = "soil"
-library = "{library}"
-drucker_prager = {{ cohesion = {c}, friction_angle = {phi} }}
-"#,
-        library = soil.library,
-        c = soil.cohesion_pa,
-        phi = soil.friction_angle_degrees,
-    )
-}
-
-/// The free-field scene of `charge_kg` reaching down to `depth_m` and out to `radius_m`, its
-/// soil no coarser than `far_spacing` where the sections' bands read it, with
-/// gauges `at-crown-k` where the k-th crown will be (`crown_z`) and `side-k` at `side_r`
-/// beside it.
-fn free_field_scene(
-    charge_kg: f64,
-    soil: &Soil,
-    resolution: Resolution,
-    (radius_m, depth_m): (f64, f64),
-    far_spacing: f64,
-    gauges: &[(f64, f64)],
-    end_time: f64,
-) -> String {
-    let gauges: String = gauges
-        .iter()
-        .enumerate()
-        .map(|(k, (crown_z, side_r))| {
-            format!(
-                "\n[[gauge]]\nname = \"at-crown-{k}\"\nposition = [0.0, {crown_z}]\n\n\
-                 [[gauge]]\nname = \"side-{k}\"\nposition = [{side_r}, {crown_z}]\n"
-            )
-        })
-        .collect();
-    let rc = hemisphere_radius(charge_kg);
-    let s0 = rc / resolution.across_charge as f64;
-    // spacing doubles from box to box, up to `far_spacing`; each box is three times the last
-    let (a1, a2) = (10.0 * s0, 30.0 * s0);
-    let spacing = |k: f64| (k * s0).min(far_spacing).max(s0);
-    format!(
-        r#"[scene]
-name = "free field, {charge_kg} kg TNT on {library}"
-geometry = "axisymmetric"
-end_time = {end_time}
-
-[domain]
-min = [0.0, {zmin}]
-max = [{radius_m}, {ztop}]
-sides = {{ x_min = "wall", x_max = "transmitting", y_min = "transmitting", y_max = "open" }}
-
-{ground}
-[[body]]
-name = "charge"
-material = "tnt"
-spacing = {s0}
-shape = {{ kind = "hemisphere", centre = [0.0, 0.0], mass = {charge_kg} }}
-detonation_points = [[0.0, 0.0]]
-
-[[body]]
-name = "soil-near"
-material = "soil"
-spacing = {s1}
-shape = {{ kind = "box", min = [0.0, {za1}], max = [{a1}, 0.0] }}
-
-[[body]]
-name = "soil-mid"
-material = "soil"
-spacing = {s2}
-shape = {{ kind = "box", min = [0.0, {za2}], max = [{a2}, 0.0] }}
-subtract = ["soil-near"]
-
-[[body]]
-name = "soil-far"
-material = "soil"
-spacing = {s3}
-shape = {{ kind = "layer", bottom = {zmin}, top = 0.0 }}
-subtract = ["soil-near", "soil-mid"]
-
-{gauges}"#,
-        library = soil.library,
-        ground = ground(soil),
-        zmin = -depth_m,
-        ztop = 2.0 * rc,
-        s1 = spacing(2.0),
-        s2 = spacing(4.0),
-        s3 = spacing(8.0),
-        za1 = -a1,
-        za2 = -a2,
-    )
 }
 
 /// The section scene of `case` (see the module's comment), its soil in two bodies: `free`
@@ -671,28 +541,6 @@ fn end_time(depth_m: f64, tunnel: Tunnel, p_wave_speed: f64) -> f64 {
     1.5 * (depth_m + tunnel.inner_diameter_m + 2.0 * tunnel.lining_m) / p_wave_speed
 }
 
-/// The soil's P-wave speed √((K + 4G/3)/ρ0) at rest.
-fn p_wave_speed(soil: &Soil) -> Result<f64, VerifyError> {
-    let scene = Scene::parse(&free_field_scene(
-        1.0,
-        soil,
-        Resolution {
-            across_charge: 1,
-            across_lining: 1,
-        },
-        (10.0, 10.0),
-        1.0,
-        &[],
-        1e-3,
-    ))?;
-    let m = &scene.materials[0];
-    let material = m.material()?;
-    let rho0 = m.ambient.0;
-    let c0 = material.eos.sound_speed(rho0, 0.0);
-    let shear = material.strength.map_or(0.0, |st| st.shear_modulus);
-    Ok((c0 * c0 + 4.0 * shear / (3.0 * rho0)).sqrt())
-}
-
 fn prepare_charge(
     charge_kg: f64,
     depths_m: &[f64],
@@ -722,9 +570,17 @@ fn prepare_charge(
         .fold(0.0, f64::max);
     // room beyond the sections for the free field's own transmitting sides
     let margin = 0.25 * reach_z;
-    let gauges: Vec<(f64, f64)> = geometry
+    // the free field's gauges `at-crown-k` where the k-th crown will be and `side-k` beside it
+    let gauges: Vec<(String, [f64; 2])> = geometry
         .iter()
-        .map(|(_, s)| (s.centre_z + outer - 0.25 * s.soil_spacing, side_r))
+        .enumerate()
+        .flat_map(|(k, (_, s))| {
+            let crown_z = s.centre_z + outer - 0.25 * s.soil_spacing;
+            [
+                (format!("at-crown-{k}"), [0.0, crown_z]),
+                (format!("side-{k}"), [side_r, crown_z]),
+            ]
+        })
         .collect();
     // the bands interpolate the free field over a few of its spacings, and the front it
     // brings must be resolved there: no coarser than 1.5 of the sections' soil spacings,
@@ -733,16 +589,18 @@ fn prepare_charge(
     // 23 % when the study was refined by 1.5, and its front rose over 8.8 ms (10–90 %);
     // at 1.5 it moves by 9 %
     let far_spacing = 1.5 * geometry[0].1.soil_spacing;
-    let free_text = |gauges: &[(f64, f64)]| {
-        free_field_scene(
+    let free_text = |gauges: &[(String, [f64; 2])]| {
+        SurfaceBurst {
             charge_kg,
             soil,
-            resolution,
-            (reach_r + margin, reach_z + margin),
-            far_spacing,
+            across_charge: resolution.across_charge,
+            radius_m: reach_r + margin,
+            depth_m: reach_z + margin,
+            far_spacing_m: far_spacing,
             gauges,
-            end,
-        )
+            end_time_s: end,
+        }
+        .text()
     };
     let free_field = Scene::parse(&free_text(&gauges))?;
     let free_physics = free_text(&[]);
@@ -921,21 +779,25 @@ pub fn run_study(
     validate(request)?;
     let request = &request.in_order();
     let started = std::time::Instant::now();
-    let mut gate = Vec::new();
-    for &charge_kg in &request.charges_kg {
-        let gate_request = GateRequest {
-            charge_kg,
-            soil: request.soil.clone(),
-            depths_m: request.depths_m.clone(),
-            level: request.level,
-        };
-        let (report, _) = run_gate(&gate_request, &out.join("gate"), progress)?;
-        gate.push(GateVerdict {
-            charge_kg,
-            pass: report.pass,
-            inputs_hash: report.inputs_hash,
-        });
-    }
+    // the charges' gates side by side, as the cases below
+    let gate = request
+        .charges_kg
+        .par_iter()
+        .map(|&charge_kg| {
+            let gate_request = GateRequest {
+                charge_kg,
+                soil: request.soil.clone(),
+                depths_m: request.depths_m.clone(),
+                level: request.level,
+            };
+            let (report, _) = run_gate(&gate_request, &out.join("gate"), progress)?;
+            Ok(GateVerdict {
+                charge_kg,
+                pass: report.pass,
+                inputs_hash: report.inputs_hash,
+            })
+        })
+        .collect::<Result<Vec<_>, VerifyError>>()?;
     let validated = gate.iter().all(|g| g.pass);
     if !validated && !accept_unvalidated {
         return Ok(Outcome::GateFailed(gate));

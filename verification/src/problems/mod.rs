@@ -8,6 +8,7 @@ mod colliding_rings;
 mod density_ratio_tube;
 mod elastic_wave;
 pub mod ground_shock;
+pub mod ground_shock_surface;
 mod impedance_mismatch;
 mod kernel_interpolation;
 mod sedov_blast;
@@ -48,6 +49,7 @@ pub fn all() -> Vec<ProblemInfo> {
     list.push(thesis_arrivals::info());
     list.extend(airblast::infos());
     list.push(ground_shock::info());
+    list.push(ground_shock_surface::info());
     list.push(transmitting_boundary::info());
     list
 }
@@ -81,6 +83,9 @@ pub fn preflight(
     }
     if name == ground_shock::SPHERICAL {
         ground_shock::check_gauges(&params)?;
+    }
+    if name == ground_shock_surface::NAME {
+        ground_shock_surface::check(&params)?;
     }
     Ok(())
 }
@@ -127,6 +132,8 @@ fn run_here(
         transmitting_boundary::run(&params, progress)?
     } else if name == ground_shock::SPHERICAL {
         ground_shock::run(&params, level, progress)?
+    } else if name == ground_shock_surface::NAME {
+        ground_shock_surface::run(&params, level, progress)?
     } else if name == tnt_slab::NAME {
         tnt_slab::run(&params, progress)?
     } else if name == density_ratio_tube::NAME {

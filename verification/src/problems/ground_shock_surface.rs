@@ -1,0 +1,581 @@
+//! `ground-shock-surface`: the surface burst's ground shock, the free field the tunnel study
+//! rests on, against the ground-shock relations (Drake 1983 / TM 5-855-1 / ConWep,
+//! [`crate::scaled::ground_shock`]) with the coupling factor of a surface burst.
+//!
+//! Set-up: the scene of [`crate::surface_burst`], the one the tunnel study's free field runs: W
+//! kg of TNT as a hemisphere lying on the library's `dry-sand` (Drucker–Prager, c = 0,
+//! φ = 30°, as in `ground-shock-spherical`), axisymmetric, the ground in its geostatic
+//! state, transmitting bottom and far side, no air. Gauges in the soil on the axis at the
+//! given depths and at the same depths a given distance off the axis. Each reads the soil
+//! particle nearest its place: the compressive stress along the ray from the charge's
+//! centre, −n·σ·n = p − n·S·n, less its geostatic value (the first reading, after one step,
+//! long before any signal arrives), and the speed |v|.
+//!
+//! The coupling factor: f = 0.40, the relations' value with the charge's centre at the
+//! surface (scaled depth of burst 0; Bulson 1997 via MSB, `coupling_factor(0)`). A hemisphere
+//! lying on the ground is half of a sphere centred on the surface; the 0.14 at the other end
+//! of the range is for a burst in the air above the ground. The record states the ratios at
+//! f = 0.40; at 0.14 every peak ratio would be 0.40/0.14 = 2.9 times larger.
+//!
+//! Checked at the finest resolution for each gauge the relations cover (r/W^(1/3) ≥ 0.4
+//! m/kg^(1/3), W in kg C-4): arrival within 30 % and peak stress and velocity within a
+//! factor 3 (the bands of `ground-shock-spherical`, with its reasons). A gauge nearer than
+//! the relations' range is recorded, not checked. The relations give the peaks as functions
+//! of range alone; a load on the surface of a half-space does not radiate alike in every
+//! direction: the far-field P wave of a vertical point load on an elastic half-space
+//! (Miller & Pursey 1954, Proc. R. Soc. Lond. A 223, 521) has the amplitude
+//! cos θ (κ² − 2 sin²θ) / F0(sin θ), F0(ζ) = (2ζ² − κ²)² + 4ζ² √(1 − ζ²) √(κ² − ζ²), with
+//! θ from the vertical and κ = c_P/c_S, which falls to zero along the surface. Where that
+//! pattern is below a third of the vertical's (θ > 72° at the sand's ν = 0.22), a peak below
+//! the relations by more than the factor 3 is reported as a known limit with that evidence. The soil's far spacing follows the tunnel
+//! study's free field (1.5 of its sections' soil spacing, 2 × 0.35 m / 4 at four particles
+//! across the lining and the charge), shrinking with the charge's spacing as the resolution
+//! rises.
+//!
+//! Not simulated: the air above the ground (the air blast of a surface burst is
+//! `airblast-surface`'s, and the air-induced ground shock it would drive ahead of the direct
+//! one at long ranges is left out), and a soil with its own length scale (the scene's far
+//! spacing is in metres).
+
+use super::ground_shock::{soil_model, MODELLED_SOILS, POISSON};
+use crate::gauges::{Gauge, GaugeTrace};
+use crate::params::{ParamSpec, Params};
+use crate::record::{Check, ProblemOutput, Record, Run, Table};
+use crate::scaled::explosives::explosive;
+use crate::scaled::ground_shock::{coupling_factor, ground_shock, soil, GroundShock};
+use crate::scene::{particles, run_with, Checkpoints, Observer};
+use crate::surface_burst::{hemisphere_radius, p_wave_speed, Soil, SurfaceBurst};
+use crate::svg::{Figure, Panel, Series, Style};
+use crate::{Level, VerifyError};
+use blastsph_solver::Simulation;
+use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+pub const NAME: &str = "ground-shock-surface";
+
+/// Limits against the relations (see the module's comment).
+const ARRIVAL_LIMIT: f64 = 0.30;
+const PEAK_FACTOR_LIMIT: f64 = 3.0;
+/// The resolution at which `far_spacing` is given: the far spacing scales as this over n.
+const FAR_SPACING_AT: f64 = 4.0;
+/// The soil reaches this share of the deepest gauge's depth beyond it, downwards and beyond
+/// the side gauges: the transmitting sides send back a few per cent
+/// (`transmitting-boundary`), and that little must still come late.
+const MARGIN: f64 = 0.25;
+/// The run ends at this multiple of the relations' arrival at the farthest gauge (as in
+/// `ground-shock-spherical`: the peak has passed even with an arrival 30 % late).
+const END_MARGIN: f64 = 1.5;
+/// The largest change of the total energy over its start, with what left through the
+/// transmitting sides counted: about ten times the 3.7e-5 measured at n = 4 (the products'
+/// energy is the start's; the ground's motion takes a small share of it).
+const ENERGY_LIMIT: f64 = 4e-4;
+
+pub fn info() -> super::ProblemInfo {
+    super::ProblemInfo {
+        name: NAME,
+        summary: "TNT hemisphere on dry sand (axisymmetric, geostatic ground, the tunnel study's free field) against the TM 5-855-1 ground-shock relations for a surface burst",
+        params: vec![
+            ParamSpec::new("charge", 500.0, "TNT mass W (kg)"),
+            ParamSpec::new(
+                "soil",
+                MODELLED_SOILS[0].0,
+                "the TM 5-855-1 soil (the library material that models it is simulated)",
+            ),
+            ParamSpec::new("depths", "2.5,5,10,15,20", "gauge depths below the surface (m)"),
+            ParamSpec::new(
+                "offset",
+                10.0,
+                "a second gauge at each depth this far off the axis (m)",
+            ),
+            ParamSpec::per_level(
+                "n",
+                "4",
+                "4,6",
+                "particles across the charge's radius (one run each)",
+            ),
+            ParamSpec::new(
+                "far_spacing",
+                0.2625,
+                "the soil's largest spacing at n = 4 (m; scaled by 4/n)",
+            ),
+        ],
+    }
+}
+
+struct Settings {
+    charge_kg: f64,
+    reference_soil: &'static crate::scaled::ground_shock::Soil,
+    soil: Soil,
+    depths_m: Vec<f64>,
+    offset_m: f64,
+    far_spacing_m: f64,
+    coupling: f64,
+}
+
+fn settings(params: &Params) -> Result<Settings, VerifyError> {
+    let charge_kg = params.number("charge", 1.0, 2e4)?;
+    let mut depths_m = params.numbers("depths", 0.1, 100.0)?;
+    depths_m.sort_by(f64::total_cmp);
+    let radius = hemisphere_radius(charge_kg);
+    if depths_m[0] <= 2.0 * radius {
+        return Err(VerifyError::bad_value(
+            "depths (m)",
+            depths_m[0],
+            &format!("below twice the charge's radius, > {:.3} m", 2.0 * radius),
+        ));
+    }
+    Ok(Settings {
+        charge_kg,
+        reference_soil: soil(&params.text("soil"))?,
+        soil: Soil {
+            library: soil_model(&params.text("soil"))?.to_string(),
+            ..Soil::default()
+        },
+        depths_m,
+        offset_m: params.number("offset", 0.0, 100.0)?,
+        far_spacing_m: params.number("far_spacing", 1e-3, 10.0)?,
+        coupling: coupling_factor(0.0),
+    })
+}
+
+/// Refuses parameters the problem cannot run, naming the field, without running it.
+pub fn check(params: &Params) -> Result<(), VerifyError> {
+    settings(params).map(|_| ())
+}
+
+/// A gauge: its name, where it was asked for (r, z), the soil particle it reads, and that
+/// particle's distance from the charge's centre and unit direction (n_r, n_z).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct GaugePlace {
+    name: String,
+    place: [f64; 2],
+    id: u32,
+    range_m: f64,
+    ray: [f64; 2],
+}
+
+/// What the gauges read after every step: time and, per gauge, the compressive stress along
+/// its ray and the speed.
+#[derive(Debug, Default, Serialize, Deserialize)]
+struct Readings {
+    gauges: Vec<GaugePlace>,
+    times: Vec<f64>,
+    samples: Vec<Vec<[f64; 2]>>,
+}
+
+impl Observer<2> for Readings {
+    fn observe(&mut self, sim: &Simulation<2>) {
+        let p = sim.particles();
+        let mut index_of = vec![0; p.n_real()];
+        for i in 0..p.n_real() {
+            index_of[p.id[i] as usize] = i;
+        }
+        self.times.push(sim.time());
+        self.samples.push(
+            self.gauges
+                .iter()
+                .map(|g| {
+                    let i = index_of[g.id as usize];
+                    let [nr, nz] = g.ray;
+                    // −n·σ·n with σ = −p I + S over the (r, z) block
+                    let deviatoric = p.deviatoric_stress.get(i).map_or(0.0, |s| {
+                        nr * nr * s[(0, 0)] + 2.0 * nr * nz * s[(0, 1)] + nz * nz * s[(1, 1)]
+                    });
+                    [p.pressure[i] - deviatoric, p.velocity[i].norm()]
+                })
+                .collect(),
+        );
+    }
+}
+
+impl Readings {
+    /// Each gauge's trace: the stress less its first reading (the geostatic state), the speed.
+    fn traces(&self) -> Vec<GaugeTrace> {
+        self.gauges
+            .iter()
+            .enumerate()
+            .map(|(k, g)| {
+                let mut trace = GaugeTrace::new(g.name.clone(), g.range_m);
+                let baseline = self.samples.first().map_or(0.0, |row| row[k][0]);
+                for (t, row) in self.times.iter().zip(&self.samples) {
+                    trace.push(*t, row[k][0] - baseline, row[k][1]);
+                }
+                trace
+            })
+            .collect()
+    }
+}
+
+/// The relations at `range_m`, or none where the range is nearer than they hold.
+fn reference(s: &Settings, range_m: f64) -> Result<Option<GroundShock>, VerifyError> {
+    let tnt = explosive("tnt")?;
+    match ground_shock(s.reference_soil, tnt, s.charge_kg, range_m, s.coupling) {
+        Ok(shock) => Ok(Some(shock)),
+        Err(VerifyError::BadValue { field, .. }) if field.starts_with("scaled range") => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// The gauges' places: on the axis and `offset` off it at each depth.
+fn gauge_places(s: &Settings) -> Vec<(String, [f64; 2])> {
+    s.depths_m
+        .iter()
+        .flat_map(|&d| {
+            [
+                (format!("axis-{d}m"), [0.0, -d]),
+                (format!("off-axis-{d}m"), [s.offset_m, -d]),
+            ]
+        })
+        .collect()
+}
+
+/// The far-field P-wave amplitude of a vertical point load on an elastic half-space with
+/// Poisson's ratio `poisson`, at `theta` from the vertical, over its value straight down
+/// (Miller & Pursey 1954; see the module's comment).
+fn surface_load_directivity(theta: f64, poisson: f64) -> f64 {
+    let kappa2 = 2.0 * (1.0 - poisson) / (1.0 - 2.0 * poisson);
+    let amplitude = |theta: f64| {
+        let z2 = theta.sin().powi(2);
+        let f0 = (2.0 * z2 - kappa2).powi(2)
+            + 4.0 * z2 * (1.0 - z2).max(0.0).sqrt() * (kappa2 - z2).sqrt();
+        theta.cos() * (kappa2 - 2.0 * z2) / f0
+    };
+    amplitude(theta) / amplitude(0.0)
+}
+
+struct Measured {
+    run: Run,
+    traces: Vec<GaugeTrace>,
+}
+
+static RUN_FOLDERS: AtomicUsize = AtomicUsize::new(0);
+
+fn run_one(
+    s: &Settings,
+    n: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Measured, VerifyError> {
+    let deepest = *s.depths_m.last().expect("at least one depth");
+    let places = gauge_places(s);
+    let farthest = places
+        .iter()
+        .map(|(_, [r, z])| r.hypot(*z))
+        .fold(0.0, f64::max);
+    let end_time_s = END_MARGIN * farthest / s.reference_soil.wave_speed_m_s;
+    let burst = SurfaceBurst {
+        charge_kg: s.charge_kg,
+        soil: &s.soil,
+        across_charge: n,
+        radius_m: s.offset_m + MARGIN * deepest,
+        depth_m: (1.0 + MARGIN) * deepest,
+        far_spacing_m: s.far_spacing_m * FAR_SPACING_AT / n as f64,
+        gauges: &[],
+        end_time_s,
+    };
+    let scene = burst.scene()?;
+    scene.check_memory()?;
+    let (init, body_of) = particles::<2>(&scene)?;
+    let charge = scene
+        .bodies
+        .iter()
+        .position(|b| b.name == "charge")
+        .expect("the scene has a charge");
+    let gauges = places
+        .into_iter()
+        .map(|(name, place)| {
+            let point = blastsph_solver::Vector::<2>::from(place);
+            let id = (0..init.len())
+                .filter(|&i| body_of[i] != charge)
+                .min_by(|&i, &j| {
+                    let di = (init[i].position - point).norm();
+                    let dj = (init[j].position - point).norm();
+                    di.total_cmp(&dj)
+                })
+                .expect("the scene holds soil");
+            let x = init[id].position;
+            let range_m = x.norm();
+            GaugePlace {
+                name,
+                place,
+                id: id as u32,
+                range_m,
+                ray: [x[0] / range_m, x[1] / range_m],
+            }
+        })
+        .collect();
+    let mut readings = Readings {
+        gauges,
+        ..Readings::default()
+    };
+    let out = std::env::temp_dir().join(format!(
+        "blastsph-{NAME}-{}-{}",
+        std::process::id(),
+        RUN_FOLDERS.fetch_add(1, Ordering::Relaxed)
+    ));
+    let mut report = |f: f64| progress(f);
+    let summary = run_with(
+        &scene,
+        &out,
+        &mut report,
+        &|_, _| None,
+        &mut readings,
+        &Checkpoints::default(),
+    );
+    // the scene's files (its summary, the ledger) are not the problem's outputs
+    let _ = std::fs::remove_dir_all(&out);
+    let summary = summary?;
+    let mut run = Run::new(
+        format!("n = {n}"),
+        "",
+        summary.particles,
+        hemisphere_radius(s.charge_kg) / n as f64,
+    );
+    run.steps = summary.steps;
+    run.wall_s = summary.wall_s;
+    run.failure = summary.stopped.clone();
+    if let Some(change) = summary.energy_relative_change {
+        run.metrics.insert("energy_relative_error".into(), change);
+    }
+    run.metrics.insert("t_end_s".into(), end_time_s);
+    run.metrics
+        .insert("p_wave_speed_m_s".into(), p_wave_speed(&s.soil)?);
+    let traces = readings.traces();
+    for (trace, place) in traces.iter().zip(&readings.gauges) {
+        let gauge = trace.summary();
+        let name = &place.name;
+        run.metrics.insert(format!("range_m_{name}"), place.range_m);
+        run.metrics.insert(
+            format!("ray_from_vertical_degrees_{name}"),
+            place.ray[0].atan2(-place.ray[1]).to_degrees(),
+        );
+        if let Some(relation) = reference(s, place.range_m)? {
+            for (q, value, reference) in [
+                (
+                    "peak_stress",
+                    gauge.peak_pressure_pa,
+                    relation.peak_stress_pa,
+                ),
+                (
+                    "peak_velocity",
+                    gauge.peak_velocity_m_s,
+                    relation.peak_velocity_m_s,
+                ),
+                ("arrival", gauge.arrival_s, relation.arrival_s),
+                ("impulse", gauge.impulse_pa_s, relation.impulse_pa_s),
+            ] {
+                run.metrics
+                    .insert(format!("{q}_over_relations_{name}"), value / reference);
+            }
+        }
+        run.gauges.push(Gauge {
+            name: name.clone(),
+            ..gauge
+        });
+    }
+    // the front's speed down the axis between neighbouring gauges
+    let axis: Vec<Gauge> = run
+        .gauges
+        .iter()
+        .filter(|g| g.name.starts_with("axis-"))
+        .cloned()
+        .collect();
+    for pair in axis.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        run.metrics.insert(
+            format!("front_speed_m_s_{}_to_{}", a.name, b.name),
+            (b.position_m - a.position_m) / (b.arrival_s - a.arrival_s),
+        );
+    }
+    Ok(Measured { run, traces })
+}
+
+pub fn run(
+    params: &Params,
+    level: Level,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<ProblemOutput, VerifyError> {
+    let s = settings(params)?;
+    let resolutions = params.integers("n", 2, 64)?;
+    let mut measured = Vec::new();
+    for (k, &n) in resolutions.iter().enumerate() {
+        let part = |f: f64| progress((k as f64 + f) / resolutions.len() as f64);
+        measured.push(run_one(&s, n, &part)?);
+    }
+    let finest = (0..resolutions.len())
+        .max_by_key(|&k| resolutions[k])
+        .expect("at least one resolution");
+    let n_fine = resolutions[finest];
+    let mut checks = Vec::new();
+    for m in &measured {
+        checks.push(Check::at_least(
+            format!(
+                "completed_without_blow_up_n_{}",
+                m.run.label.replace("n = ", "")
+            ),
+            f64::from(m.run.failure.is_none()),
+            1.0,
+        ));
+        if m.run.failure.is_none() {
+            checks.push(Check::at_most(
+                format!("energy_change_n_{}", m.run.label.replace("n = ", "")),
+                m.run
+                    .metrics
+                    .get("energy_relative_error")
+                    .copied()
+                    .unwrap_or(f64::NAN),
+                ENERGY_LIMIT,
+            ));
+        }
+    }
+    let fine = &measured[finest].run;
+    let metric = |key: &str| fine.metrics.get(key).copied().unwrap_or(f64::NAN);
+    let axis: Vec<&Gauge> = fine
+        .gauges
+        .iter()
+        .filter(|g| g.name.starts_with("axis-"))
+        .collect();
+    let front_speeds: Vec<String> = axis
+        .windows(2)
+        .map(|pair| {
+            let (a, b) = (&pair[0].name, &pair[1].name);
+            let speed = metric(&format!("front_speed_m_s_{a}_to_{b}"));
+            format!("{speed:.0} m/s from {a} to {b}")
+        })
+        .collect();
+    for gauge in &fine.gauges {
+        let name = &gauge.name;
+        let ratio = metric(&format!("arrival_over_relations_{name}"));
+        if ratio.is_nan() {
+            continue;
+        }
+        let check = Check::at_most(
+            format!("arrival_error_{name}_n_{n_fine}"),
+            (ratio - 1.0).abs(),
+            ARRIVAL_LIMIT,
+        );
+        checks.push(if !check.pass && ratio < 1.0 {
+            check.known_limit(format!(
+                "arrival/relations {ratio:.2}: the relations' arrival is r/c with the seismic \
+                 c = {} m/s of their dry sand; the model sand's P-wave speed at rest is \
+                 √((K + 4G/3)/ρ0) = {:.0} m/s, and its front (the first 5 % of the peak) runs \
+                 down the axis at {} (faster near the charge, where its Hugoniot, Laine & \
+                 Sandvik 2001 Table 1, runs shocks at up to 1020 m/s), as in \
+                 ground-shock-spherical",
+                s.reference_soil.wave_speed_m_s,
+                metric("p_wave_speed_m_s"),
+                front_speeds.join(", "),
+            ))
+        } else {
+            check
+        });
+        let theta = metric(&format!("ray_from_vertical_degrees_{name}"));
+        let directivity = surface_load_directivity(theta.to_radians(), POISSON);
+        for q in ["peak_stress", "peak_velocity"] {
+            let ratio = metric(&format!("{q}_over_relations_{name}"));
+            let check = Check::at_most(
+                format!("{q}_factor_from_relations_{name}_n_{n_fine}"),
+                ratio.max(1.0 / ratio),
+                PEAK_FACTOR_LIMIT,
+            );
+            checks.push(
+                if !check.pass && ratio < 1.0 && directivity < 1.0 / PEAK_FACTOR_LIMIT {
+                    check.known_limit(format!(
+                        "{q}/relations {ratio:.2} on a ray {theta:.0}° from the vertical, where \
+                         the P wave of a load on an elastic half-space carries {directivity:.2} \
+                         of the vertical's (Miller & Pursey 1954, ν = {POISSON}); the \
+                         relations, a function of range alone, cannot describe it within a \
+                         factor {PEAK_FACTOR_LIMIT}. The ground's surface carries no air blast \
+                         here (no air in the scene), whose air-induced shock would add to it"
+                    ))
+                } else {
+                    check
+                },
+            );
+        }
+    }
+    let (profile, figure) = outputs(&s, &measured[finest])?;
+    let runs = measured.into_iter().map(|m| m.run).collect();
+    Ok(ProblemOutput {
+        record: Record::new(NAME, level, runs, Default::default(), checks, finest),
+        profile,
+        figure,
+        snapshot: None,
+    })
+}
+
+/// The finest run's gauge histories as a table, and per gauge its stress against time with
+/// the relations' arrival and peak.
+fn outputs(s: &Settings, m: &Measured) -> Result<(Table, Figure), VerifyError> {
+    let mut columns = vec!["t".to_string()];
+    for trace in &m.traces {
+        let name = trace.name.replace('-', "_");
+        columns.push(format!("stress_{name}"));
+        columns.push(format!("speed_{name}"));
+    }
+    let names: Vec<&str> = columns.iter().map(String::as_str).collect();
+    let mut profile = Table::new(&names);
+    if let Some(first) = m.traces.first() {
+        for (k, &t) in first.time.iter().enumerate() {
+            let mut row = vec![t];
+            for trace in &m.traces {
+                row.push(trace.overpressure[k]);
+                row.push(trace.velocity[k]);
+            }
+            profile.rows.push(row);
+        }
+    }
+    let mut panels = Vec::new();
+    for trace in &m.traces {
+        let mut series = vec![Series {
+            label: m.run.label.clone(),
+            points: trace
+                .time
+                .iter()
+                .zip(&trace.overpressure)
+                .map(|(&t, &p)| (1e3 * t, 1e-3 * p))
+                .collect(),
+            style: Style::Line,
+        }];
+        if let Some(relation) = reference(s, trace.position_m)? {
+            series.push(Series {
+                label: format!("TM 5-855-1 arrival, peak (f = {:.2})", s.coupling),
+                points: vec![(1e3 * relation.arrival_s, 1e-3 * relation.peak_stress_pa)],
+                style: Style::Markers,
+            });
+        }
+        panels.push(Panel {
+            title: format!("{} (R = {:.1} m)", trace.name, trace.position_m),
+            x_label: "t (ms)".into(),
+            y_label: "stress along the ray (kPa)".into(),
+            series,
+            ..Panel::default()
+        });
+    }
+    Ok((
+        profile,
+        Figure {
+            title: format!(
+                "{NAME}: {} kg TNT on {}, stress along the ray from the charge",
+                s.charge_kg, s.soil.library
+            ),
+            panels,
+        },
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// The pattern is 1 straight down and 0 along the surface; at 45° with ν = 1/4
+    /// (κ² = 3), worked by hand: cos 45° (3 − 1) / ((1 − 3)² + 2 √(1/2) √(5/2)) = 1.41421 /
+    /// 6.23607, over the vertical's 1/κ² = 1/3: 0.680339.
+    #[test]
+    fn the_surface_load_pattern_at_its_ends_and_at_45_degrees() {
+        assert!((surface_load_directivity(0.0, 0.22) - 1.0).abs() < 1e-15);
+        assert!(surface_load_directivity(FRAC_PI_2, 0.22).abs() < 1e-15);
+        let at_45 = surface_load_directivity(FRAC_PI_2 / 2.0, 0.25);
+        assert!((at_45 - 0.680339).abs() < 1e-6, "{at_45}");
+    }
+}
