@@ -110,6 +110,19 @@ impl Section {
     }
 }
 
+/// The lining's material: concrete, von Mises at the tunnel's yield stress, cracking at its
+/// tensile strength.
+fn lining_material(tunnel: Tunnel) -> String {
+    format!(
+        r#"[[material]]
+name = "lining"
+library = "concrete"
+von_mises = {{ yield = {}, poisson = 0.2, tensile_strength = {} }}
+"#,
+        tunnel.lining_yield_pa, tunnel.lining_tensile_strength_pa
+    )
+}
+
 /// The section scene of `case` (see the module's comment), its soil in two bodies: `free`
 /// and `band`.
 fn section_scene(
@@ -155,12 +168,7 @@ min = [{xmin}, {zmin}]
 max = [{w}, {zmax}]
 sides = {{ x_min = "open", x_max = "open", y_min = "open", y_max = "open" }}
 
-{ground}
-[[material]]
-name = "lining"
-library = "concrete"
-von_mises = {{ yield = {yield_pa}, poisson = 0.2, tensile_strength = {tensile_pa} }}
-
+{ground}{lining}
 [[body]]
 name = "band"
 material = "soil"
@@ -187,8 +195,7 @@ position = [0.0, {invert_z}]
         ground = ground(soil),
         // twenty particle snapshots of the section (pressure, von Mises stress, status)
         snapshot_interval = end_time / 20.0,
-        yield_pa = tunnel.lining_yield_pa,
-        tensile_pa = tunnel.lining_tensile_strength_pa,
+        lining = lining_material(tunnel),
         xmin = -w,
         zmin = centre_z - w,
         zmax = centre_z + w,
@@ -274,12 +281,7 @@ min = [0.0, 0.0, {z_min}]
 max = [{across}, {along}, {ztop}]
 sides = {{ x_min = "wall", x_max = "transmitting", y_min = "wall", y_max = "transmitting", z_min = "transmitting", z_max = "open" }}
 
-{ground}
-[[material]]
-name = "lining"
-library = "concrete"
-von_mises = {{ yield = {yield_pa}, poisson = 0.2, tensile_strength = {tensile_pa} }}
-
+{ground}{lining}
 [[body]]
 name = "charge"
 material = "tnt"
@@ -352,8 +354,7 @@ position = [{side_x}, {side_g}, {side_z}]
         snapshot_interval = end_time / 20.0,
         ztop = 2.0 * rc,
         ground = ground(soil),
-        yield_pa = tunnel.lining_yield_pa,
-        tensile_pa = tunnel.lining_tensile_strength_pa,
+        lining = lining_material(tunnel),
         s1 = near_spacing(2.0),
         s2 = near_spacing(4.0),
         za1 = -a1,
