@@ -884,8 +884,9 @@ fn a_broken_scene_exits_2_by_name_and_writes_nothing() {
     assert!(stderr(&out).contains("/proc/forbidden"));
 }
 
-/// The tunnel study refuses depths, charges, soils and levels it does not cover, by name,
-/// before anything runs or is written.
+/// The tunnel study refuses depths, charges, soils and cases its full level cannot grade (a
+/// 1 kg charge's fine soil next to the far soil), by name, before anything runs or is
+/// written.
 #[test]
 fn the_tunnel_study_refuses_bad_requests_by_name() {
     let dir = scratch("tunnel-bad");
@@ -893,7 +894,7 @@ fn the_tunnel_study_refuses_bad_requests_by_name() {
         (vec!["--depths", "0.5"], "--depths"),
         (vec!["--charges", "500,-3"], "--charges"),
         (vec!["--soil", "peat"], "soil"),
-        (vec!["--level", "full"], "--level"),
+        (vec!["--level", "full", "--charges", "1"], "--level full"),
         (vec!["--lining", "0"], "--lining"),
     ] {
         let mut all = vec!["tunnel", "--out", dir.to_str().unwrap()];

@@ -20,7 +20,6 @@
 //! program reuses it instead of running again; any change of the code or of the request runs
 //! it afresh.
 
-use crate::params::Params;
 use crate::problems;
 use crate::record::{Check, Record};
 use crate::report::write_atomic;
@@ -167,14 +166,7 @@ pub fn validate(request: &GateRequest) -> Result<(), VerifyError> {
     soil(&request.soil)?;
     problems::ground_shock::soil_model(&request.soil)?;
     for (name, overrides) in plan(request) {
-        let info = problems::find(name)?;
-        let params = Params::new(name, &info.params, request.level, &overrides)?;
-        if name == "ground-shock-spherical" {
-            problems::ground_shock::check_gauges(&params)?;
-        }
-        if name == problems::ground_shock_surface::NAME {
-            problems::ground_shock_surface::check(&params)?;
-        }
+        problems::preflight(name, request.level, &overrides)?;
     }
     Ok(())
 }

@@ -211,7 +211,8 @@ position = [0.0, {invert_z}]
 /// The full level's scene of `case`: a 3D quarter model (the planes x = 0, across the tunnel
 /// through the charge, and y = 0, along the tunnel's axis through the charge, are symmetry
 /// walls; the far sides and the bottom transmit), graded:
-/// - the charge and the soil near it as in the free field ([`SurfaceBurst`]);
+/// - the charge and the soil near it as in the free field ([`SurfaceBurst`]), less what the
+///   tunnel's region below takes of it;
 /// - the lining with `across_lining` particles across its thickness and its soil at twice
 ///   that spacing, in the crown's region (the tunnel's first half diameter along its axis,
 ///   the soil a quarter diameter beyond the lining across and above it, a sixth below);
@@ -294,13 +295,14 @@ name = "soil-near"
 material = "soil"
 spacing = {s1}
 shape = {{ kind = "box", min = [0.0, 0.0, {za1}], max = [{a1}, {a1}, 0.0] }}
+subtract = ["soil-tunnel"]
 
 [[body]]
 name = "soil-mid"
 material = "soil"
 spacing = {s2}
 shape = {{ kind = "box", min = [0.0, 0.0, {za2}], max = [{a2}, {a2}, 0.0] }}
-subtract = ["soil-near"]
+subtract = ["soil-near", "soil-tunnel"]
 
 [[body]]
 name = "lining-crown"
@@ -1057,7 +1059,14 @@ pub fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
                     ..Soil::default()
                 };
                 let text = quarter_model_scene(case, &soil, request.tunnel, FULL, 1.0);
-                particles::<3>(&Scene::parse(&text)?)?;
+                let built = Scene::parse(&text).and_then(|scene| particles::<3>(&scene));
+                if let Err(error) = built {
+                    return Err(VerifyError::bad_value(
+                        "--depths/--charges at --level full",
+                        format!("{depth_m} m under {charge_kg} kg"),
+                        &format!("a case whose 3D model can be graded ({error})"),
+                    ));
+                }
             }
         }
     }
@@ -2016,7 +2025,10 @@ mod tests {
     fn the_quarter_model_builds_with_its_gauges_in_place() {
         let tunnel = Tunnel::default();
         let soil = Soil::default();
-        for (depth_m, charge_kg) in [(10.0, 500.0), (20.0, 5000.0)] {
+        for (depth_m, charge_kg) in [10.0, 15.0, 20.0]
+            .into_iter()
+            .flat_map(|d| [500.0, 1000.0, 5000.0].map(|w| (d, w)))
+        {
             let case = Case { depth_m, charge_kg };
             let text = quarter_model_scene(case, &soil, tunnel, FULL, 0.01);
             let scene = Scene::parse(&text).unwrap();

@@ -42,7 +42,9 @@ use crate::gauges::{Gauge, GaugeTrace};
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, ProblemOutput, Record, Run, Table};
 use crate::scaled::explosives::explosive;
-use crate::scaled::ground_shock::{coupling_factor, ground_shock, soil, GroundShock};
+use crate::scaled::ground_shock::{
+    coupling_factor, ground_shock, scaled_range, soil, GroundShock, MIN_SCALED_RANGE,
+};
 use crate::scene::{particles, run_with, Checkpoints, Observer};
 use crate::surface_burst::{hemisphere_radius, p_wave_speed, Soil, SurfaceBurst};
 use crate::svg::{Figure, Panel, Series, Style};
@@ -209,11 +211,10 @@ impl Readings {
 /// The relations at `range_m`, or none where the range is nearer than they hold.
 fn reference(s: &Settings, range_m: f64) -> Result<Option<GroundShock>, VerifyError> {
     let tnt = explosive("tnt")?;
-    match ground_shock(s.reference_soil, tnt, s.charge_kg, range_m, s.coupling) {
-        Ok(shock) => Ok(Some(shock)),
-        Err(VerifyError::BadValue { field, .. }) if field.starts_with("scaled range") => Ok(None),
-        Err(e) => Err(e),
+    if scaled_range(tnt, s.charge_kg, range_m) < MIN_SCALED_RANGE {
+        return Ok(None);
     }
+    ground_shock(s.reference_soil, tnt, s.charge_kg, range_m, s.coupling).map(Some)
 }
 
 /// The gauges' places: on the axis and `offset` off it at each depth.

@@ -117,6 +117,13 @@ pub struct GroundShock {
 /// Where the relations hold: r/W^(1/3) ≥ 0.4 m/kg^(1/3) (W the C-4 mass).
 pub const MIN_SCALED_RANGE: f64 = 0.4;
 
+/// The scaled range r/W^(1/3) of the relations (m/kg^(1/3), W the C-4 mass for stress and
+/// velocity); they hold from [`MIN_SCALED_RANGE`] out.
+pub fn scaled_range(explosive: &Explosive, mass_kg: f64, range_m: f64) -> f64 {
+    let (w_stress, _) = c4_equivalent(explosive.tnt_for_pressure(mass_kg));
+    range_m / w_stress.cbrt()
+}
+
 /// The ground shock at `range_m` from `mass_kg` of `explosive` in `soil` with coupling
 /// factor `coupling`.
 pub fn ground_shock(
@@ -137,7 +144,7 @@ pub fn ground_shock(
     }
     let (w_stress, _) = c4_equivalent(explosive.tnt_for_pressure(mass_kg));
     let (_, w_impulse) = c4_equivalent(explosive.tnt_for_impulse(mass_kg));
-    let scaled = range_m / w_stress.cbrt();
+    let scaled = scaled_range(explosive, mass_kg, range_m);
     if scaled < MIN_SCALED_RANGE {
         return Err(VerifyError::bad_value(
             "scaled range r/W^(1/3) (m/kg^(1/3), W in kg C-4)",
