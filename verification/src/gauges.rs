@@ -106,6 +106,29 @@ impl GaugeTrace {
     }
 }
 
+/// Gauge histories sampled at the same times as one table: `t`, then per trace its
+/// overpressure (or stress) and velocity columns, named by `columns`.
+pub fn history_table(
+    traces: &[GaugeTrace],
+    columns: impl Fn(&GaugeTrace) -> [String; 2],
+) -> crate::record::Table {
+    let mut names = vec!["t".to_string()];
+    names.extend(traces.iter().flat_map(&columns));
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let mut table = crate::record::Table::new(&names);
+    if let Some(first) = traces.first() {
+        for (k, &t) in first.time.iter().enumerate() {
+            let mut row = vec![t];
+            for trace in traces {
+                row.push(trace.overpressure[k]);
+                row.push(trace.velocity[k]);
+            }
+            table.rows.push(row);
+        }
+    }
+    table
+}
+
 /// The value of a 1D profile at `x`: linear interpolation between the two samples that
 /// straddle it in `sorted` (x ascending), the end value beyond either end.
 pub fn interpolate(sorted: &[(f64, f64)], x: f64) -> f64 {

@@ -23,7 +23,7 @@
 use crate::gate::{run_gate, GateRequest};
 use crate::problems::ground_shock::soil_model;
 use crate::record::Check;
-use crate::scene::{particles, run_with, Checkpoints, Observer, RunSummary, Scene};
+use crate::scene::{current_index, particles, run_with, Checkpoints, Observer, RunSummary, Scene};
 use crate::surface_burst::{ground, hemisphere_radius, p_wave_speed, Soil, SurfaceBurst, ETA};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
@@ -484,10 +484,7 @@ fn band_sources(
 impl Observer<2> for Recording {
     fn observe(&mut self, sim: &Simulation<2>) {
         let p = sim.particles();
-        let mut index_of = vec![0; p.n_real()];
-        for i in 0..p.n_real() {
-            index_of[p.id[i] as usize] = i;
-        }
+        let index_of = current_index(sim);
         self.times.push(sim.time());
         self.velocities.push(
             self.ids

@@ -45,12 +45,13 @@ use super::airblast::{
     charge_in_shells, charge_radius, health_checks, relative_error, shell_edges, viscosity,
     viscosity_switched_down_to,
 };
-use crate::gauges::GaugeTrace;
+use crate::gauges::{history_table, GaugeTrace};
 use crate::materials::Library;
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, Conservation, ProblemOutput, Record, Run, Table};
 use crate::scaled::explosives::explosive;
 use crate::scaled::ground_shock::{ground_shock, soil, GroundShock, Soil};
+use crate::scene::current_index;
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
 use crate::{Level, VerifyError};
@@ -492,16 +493,6 @@ impl MaterialGauge {
     }
 }
 
-/// Where each shell, by its index at creation, is stored now.
-fn current_index(sim: &Simulation<1>) -> Vec<usize> {
-    let p = sim.particles();
-    let mut index = vec![0; p.n_real()];
-    for i in 0..p.n_real() {
-        index[p.id[i] as usize] = i;
-    }
-    index
-}
-
 /// How many shells of `material` lie inside the shell created next inside them: in a 1D
 /// Lagrangian flow mass shells keep their order, so every crossing is a breakdown of the
 /// discretisation.
@@ -790,25 +781,14 @@ fn outputs(
         measured.iter().filter(|(_, n, _)| *n == n_fine).collect();
     let mut tables = Vec::new();
     for (model, _, m) in &finest {
-        let mut columns = vec!["t".to_string()];
-        for r in &s.gauges_m {
-            let variant = model.name().replace('-', "_");
-            columns.push(format!("stress_{variant}_r{r}"));
-            columns.push(format!("velocity_{variant}_r{r}"));
-        }
-        let names: Vec<&str> = columns.iter().map(String::as_str).collect();
-        let mut table = Table::new(&names);
-        if let Some(first) = m.traces.first() {
-            for (k, &t) in first.time.iter().enumerate() {
-                let mut row = vec![t];
-                for trace in &m.traces {
-                    row.push(trace.overpressure[k]);
-                    row.push(trace.velocity[k]);
-                }
-                table.rows.push(row);
-            }
-        }
-        tables.push(table);
+        let variant = model.name().replace('-', "_");
+        tables.push(history_table(&m.traces, |trace| {
+            let r = trace.position_m;
+            [
+                format!("stress_{variant}_r{r}"),
+                format!("velocity_{variant}_r{r}"),
+            ]
+        }));
     }
     let profile = tables
         .into_iter()

@@ -38,14 +38,14 @@
 //! spacing is in metres).
 
 use super::ground_shock::{soil_model, MODELLED_SOILS, POISSON};
-use crate::gauges::{Gauge, GaugeTrace};
+use crate::gauges::{history_table, Gauge, GaugeTrace};
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, ProblemOutput, Record, Run, Table};
 use crate::scaled::explosives::explosive;
 use crate::scaled::ground_shock::{
     coupling_factor, ground_shock, scaled_range, soil, GroundShock, MIN_SCALED_RANGE,
 };
-use crate::scene::{particles, run_with, Checkpoints, Observer};
+use crate::scene::{current_index, particles, run_with, Checkpoints, Observer};
 use crate::surface_burst::{hemisphere_radius, p_wave_speed, Soil, SurfaceBurst};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
@@ -168,10 +168,7 @@ struct Readings {
 impl Observer<2> for Readings {
     fn observe(&mut self, sim: &Simulation<2>) {
         let p = sim.particles();
-        let mut index_of = vec![0; p.n_real()];
-        for i in 0..p.n_real() {
-            index_of[p.id[i] as usize] = i;
-        }
+        let index_of = current_index(sim);
         self.times.push(sim.time());
         self.samples.push(
             self.gauges
@@ -507,24 +504,10 @@ pub fn run(
 /// The finest run's gauge histories as a table, and per gauge its stress against time with
 /// the relations' arrival and peak.
 fn outputs(s: &Settings, m: &Measured) -> Result<(Table, Figure), VerifyError> {
-    let mut columns = vec!["t".to_string()];
-    for trace in &m.traces {
+    let profile = history_table(&m.traces, |trace| {
         let name = trace.name.replace('-', "_");
-        columns.push(format!("stress_{name}"));
-        columns.push(format!("speed_{name}"));
-    }
-    let names: Vec<&str> = columns.iter().map(String::as_str).collect();
-    let mut profile = Table::new(&names);
-    if let Some(first) = m.traces.first() {
-        for (k, &t) in first.time.iter().enumerate() {
-            let mut row = vec![t];
-            for trace in &m.traces {
-                row.push(trace.overpressure[k]);
-                row.push(trace.velocity[k]);
-            }
-            profile.rows.push(row);
-        }
-    }
+        [format!("stress_{name}"), format!("speed_{name}")]
+    });
     let mut panels = Vec::new();
     for trace in &m.traces {
         let mut series = vec![Series {

@@ -38,8 +38,8 @@
 mod run;
 
 pub use run::{
-    particles, run, run_checkpointed, run_with, Checkpoints, Observer, Prescribe, RunSummary,
-    CHECKPOINT_FILE,
+    current_index, particles, run, run_checkpointed, run_with, Checkpoints, Observer, Prescribe,
+    RunSummary, CHECKPOINT_FILE,
 };
 
 use crate::materials::Library;

@@ -613,6 +613,16 @@ struct GaugeHistory {
     rows: Vec<Vec<f64>>,
 }
 
+/// Where each real particle, by its id (its index at creation), is stored now.
+pub fn current_index<const D: usize>(sim: &Simulation<D>) -> Vec<usize> {
+    let p = sim.particles();
+    let mut index = vec![0; p.n_real()];
+    for i in 0..p.n_real() {
+        index[p.id[i] as usize] = i;
+    }
+    index
+}
+
 /// The particle whose id is `id`, looked up again only when reordering moved it.
 fn index_of<const D: usize>(sim: &Simulation<D>, id: u32, hint: &mut usize) -> usize {
     let ids = &sim.particles().id;
