@@ -43,7 +43,9 @@ pub use step::{
     ArtificialHeating, Checkpoint, InitialState, PhaseTimes, PrescribedMotion, Simulation,
     SimulationConfig, TimeSteps,
 };
-pub use strength::{JohnsonCook, PlasticHeating, Strength, YieldState};
+pub use strength::{
+    DruckerPrager, JohnsonCook, PlasticHeating, Strength, VonMises, YieldState, YieldSurface,
+};
 
 /// A point or vector in D dimensions.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;

@@ -1766,7 +1766,7 @@ fn particle_spacing(formulation: Formulation, dimension: usize, volume: f64, r: 
 fn shear_moduli(materials: &[Material]) -> Vec<f64> {
     materials
         .iter()
-        .map(|m| m.strength.map_or(0.0, |s| s.shear_modulus))
+        .map(|m| m.strength.as_ref().map_or(0.0, |s| s.shear_modulus))
         .collect()
 }
 

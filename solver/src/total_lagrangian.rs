@@ -219,6 +219,7 @@ impl<const D: usize> ReferenceConfiguration<D> {
             let material = &materials[p.material_of(i)];
             let strength = material
                 .strength
+                .as_ref()
                 .expect("a total-Lagrangian scene holds solids only");
             let g = strength.shear_modulus;
             p.density[i] = self.density[i] / jacobian;

@@ -9,7 +9,7 @@ use std::fmt::Write;
 /// the file: 0, 1, 2; fluids are 0.
 pub(crate) fn status_code<const D: usize>(sim: &Simulation<D>, i: usize) -> f64 {
     let p = sim.particles();
-    let Some(strength) = sim.materials()[p.material_of(i)].strength else {
+    let Some(strength) = &sim.materials()[p.material_of(i)].strength else {
         return 0.0;
     };
     if strength.failed_in_tension(p.pressure[i], &p.deviatoric_stress[i]) {
@@ -65,7 +65,7 @@ impl Snapshot {
             scalars.push(("plastic_work".to_string(), p.plastic_work.clone()));
             scalars.push(("status".to_string(), field(&|i| status_code(sim, i))));
             let rise = |i: usize| {
-                let strength = sim.materials()[p.material_of(i)].strength?;
+                let strength = sim.materials()[p.material_of(i)].strength.as_ref()?;
                 strength.temperature_rise(p.plastic_work[i])
             };
             if (0..n).any(|i| rise(i).is_some()) {

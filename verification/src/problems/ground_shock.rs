@@ -277,7 +277,10 @@ pub fn check_gauges(params: &Params) -> Result<(), VerifyError> {
 /// shear modulus of a solid (0 for a fluid).
 pub(super) fn p_wave_speed(material: &Material, rho0: f64) -> f64 {
     let c0 = material.eos.sound_speed(rho0, 0.0);
-    let shear = material.strength.map_or(0.0, |st| st.shear_modulus);
+    let shear = material
+        .strength
+        .as_ref()
+        .map_or(0.0, |st| st.shear_modulus);
     (c0 * c0 + 4.0 * shear / (3.0 * rho0)).sqrt()
 }
 

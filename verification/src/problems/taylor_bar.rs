@@ -274,7 +274,10 @@ fn run_one<const D: usize>(
 ) -> Result<Measured, VerifyError> {
     let library = Library::standard();
     let material: Material = library.material(MATERIAL)?;
-    let strength: Strength = material.strength.expect("an elastic-plastic material");
+    let strength: Strength = material
+        .strength
+        .clone()
+        .expect("an elastic-plastic material");
     let rho0 = library.ambient_state(MATERIAL)?.0;
     // the bulk sound speed of the linear bulk response (no Grüneisen term: e plays no part)
     let c0_squared = material.eos.sound_speed(rho0, 0.0).powi(2);

@@ -956,8 +956,8 @@ impl SceneMaterial {
     pub fn material(&self) -> Result<Material, VerifyError> {
         let mut material = Library::standard().material(&self.library)?;
         material.name = self.name.clone();
-        Ok(match self.strength {
-            Some(strength) => material.with_strength(strength),
+        Ok(match &self.strength {
+            Some(strength) => material.with_strength(strength.clone()),
             None => material,
         })
     }

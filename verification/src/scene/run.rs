@@ -177,7 +177,7 @@ fn kept_state<const D: usize>(path: &Path, hash: &str) -> Result<Option<RunState
 fn mark_failed<const D: usize>(sim: &Simulation<D>, ever_failed: &mut [bool]) {
     let p = sim.particles();
     for i in 0..p.n_real() {
-        if let Some(strength) = sim.materials()[p.material_of(i)].strength {
+        if let Some(strength) = &sim.materials()[p.material_of(i)].strength {
             if strength.failed_in_tension(p.pressure[i], &p.deviatoric_stress[i]) {
                 ever_failed[p.id[i] as usize] = true;
             }

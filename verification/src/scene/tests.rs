@@ -169,7 +169,10 @@ fn a_brittle_lining_takes_a_positive_tensile_strength() {
     );
     let scene = Scene::parse(&brittle).expect("a brittle lining reads");
     let lining = scene.materials.iter().find(|m| m.name == "lining").unwrap();
-    assert_eq!(lining.strength.unwrap().tensile_strength, Some(3e6));
+    assert_eq!(
+        lining.strength.as_ref().unwrap().tensile_strength,
+        Some(3e6)
+    );
     let (line, _, message) =
         error_of(&brittle.replace("tensile_strength = 3e6", "tensile_strength = -3e6"));
     let material_line = brittle

@@ -1,72 +1,54 @@
-//! Strength of solids: hypoelastic deviatoric stress with von Mises plasticity.
+//! Strength of solids: hypoelastic deviatoric stress with a yield surface.
 //!
 //! The deviatoric stress s evolves by the Jaumann rate (objective under rotation),
 //! ṡ = 2G (ε̇ − ⅓ tr ε̇ I) + Ω s − s Ω, with ε̇ and Ω the symmetric and antisymmetric parts of
 //! the velocity gradient. After each update the stress is returned radially to the yield surface
-//! (Wilkins 1964): if σ_eq = √(3/2 s:s) exceeds the yield stress Y, s is scaled by Y/σ_eq and the
-//! equivalent plastic strain grows by (σ_eq − Y)/(3G + H). Y = Y0 + H ε_p (bilinear isotropic
-//! hardening; H = 0 is the thesis' elastic–perfectly plastic von Mises model).
+//! (Wilkins 1964): if σ_eq = √(3/2 s:s) exceeds the limit Y of the particle's state, s is scaled
+//! towards Y and the equivalent plastic strain grows by (σ_eq − Y)/(3G + H), H = dY/dε_p.
+//!
+//! A yield surface is one file here with a type that implements [`YieldSurface`] (the limit in
+//! a particle's [`YieldState`], and optionally its hardening, tension cutoff and heating),
+//! registered by its `mod` line below: von Mises with linear hardening, Drucker–Prager for
+//! soil, Johnson–Cook for metals at high rates and temperatures.
 //!
 //! In 1D and 2D the stored tensor is the in-plane block; the out-of-plane normal components
 //! follow from tr s = 0 (uniaxial strain in 1D: the two transverse components are equal;
 //! plane strain in 2D: one), so s:s = |s_D|² + (tr s_D)²/(3 − D).
 
+mod drucker_prager;
+mod johnson_cook;
+mod von_mises;
+
+pub use drucker_prager::DruckerPrager;
+pub use johnson_cook::JohnsonCook;
+pub use von_mises::VonMises;
+
 use crate::error::SolverError;
 use nalgebra::{Matrix3, SMatrix};
+use std::fmt::Debug;
+use std::sync::Arc;
 
 /// Where plastic flow begins, as a limit on the von Mises equivalent stress σ_eq.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum YieldSurface {
-    /// σ_eq ≤ Y0 + H ε_p: von Mises with linear isotropic hardening (H = 0: the thesis'
-    /// elastic–perfectly plastic model).
-    VonMises {
-        yield_stress: f64,
-        hardening_modulus: f64,
-    },
-    /// Drucker–Prager matched to the Mohr–Coulomb compression meridian (cohesion c, friction
-    /// angle φ): σ_eq ≤ (6 c cos φ + 6 p sin φ)/(3 − sin φ), and no shear strength at all below
-    /// the tension cutoff p < −σ_t (the soil has failed in tension there).
-    DruckerPrager {
-        cohesion: f64,
-        /// sin φ and cos φ (the limit is evaluated at every return).
-        sin_friction: f64,
-        cos_friction: f64,
-        tensile_strength: f64,
-    },
-    /// Johnson & Cook (1983): σ_eq ≤ (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m), with
-    /// ε̇* = max(ε̇_eq/ε̇0, 1) and T* = (T − T0)/(T_melt − T0) clamped to [0, 1], the temperature
-    /// rising from T0 by the fraction χ (Taylor–Quinney) of the plastic work over c_v.
-    JohnsonCook(JohnsonCook),
-}
+pub trait YieldSurface: Debug + Send + Sync {
+    /// The limit on σ_eq in the particle's state (Pa, ≥ 0).
+    fn limit(&self, state: &YieldState) -> f64;
 
-/// The Johnson–Cook parameters (SI; temperatures in K).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JohnsonCook {
-    pub a: f64,
-    pub b: f64,
-    pub n: f64,
-    pub c: f64,
-    pub m: f64,
-    pub reference_rate: f64,
-    pub room_temperature: f64,
-    pub melt_temperature: f64,
-    pub specific_heat: f64,
-    pub taylor_quinney: f64,
-}
-
-impl JohnsonCook {
-    /// The temperature after plastic work w_p per unit mass.
-    pub fn temperature(&self, plastic_work: f64) -> f64 {
-        self.room_temperature + self.taylor_quinney * plastic_work / self.specific_heat
+    /// The hardening modulus dY/dε_p of the return's consistency condition. 0 (the default)
+    /// takes the limit at the start of the step: first order in the plastic-strain increment.
+    fn hardening(&self) -> f64 {
+        0.0
     }
 
-    fn flow_stress(&self, state: &YieldState) -> f64 {
-        let hardening = self.a + self.b * state.plastic_strain.max(0.0).powf(self.n);
-        let rate = (state.strain_rate / self.reference_rate).max(1.0);
-        let homologous = ((self.temperature(state.plastic_work) - self.room_temperature)
-            / (self.melt_temperature - self.room_temperature))
-            .clamp(0.0, 1.0);
-        hardening * (1.0 + self.c * rate.ln()) * (1.0 - homologous.powf(self.m))
+    /// σ_t of a surface with a tension cutoff on the pressure: no shear strength where
+    /// p < −σ_t (the material has failed in tension there).
+    fn tension_cutoff(&self) -> Option<f64> {
+        None
+    }
+
+    /// The temperature rise after plastic work w_p per unit mass (J/kg), for a surface that
+    /// carries its own thermal data.
+    fn temperature_rise(&self, _plastic_work: f64) -> Option<f64> {
+        None
     }
 }
 
@@ -84,16 +66,16 @@ pub struct YieldState {
 }
 
 /// Elastic–plastic strength: the shear modulus and the yield surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Strength {
     pub shear_modulus: f64,
-    pub surface: YieldSurface,
+    pub surface: Arc<dyn YieldSurface>,
     /// A brittle material's tensile strength f_t (Pa; Rankine's criterion): the largest
     /// principal stress of σ = −pI + s is held at or below it, and where it reaches it the
     /// material cracks (see [`Strength::with_tensile_strength`]).
     pub tensile_strength: Option<f64>,
-    /// How plastic work heats the material, for the temperature-rise output (Johnson–Cook
-    /// carries its own).
+    /// How plastic work heats the material, for the temperature-rise output (a surface with
+    /// its own thermal data, such as Johnson–Cook, takes precedence).
     pub heating: Option<PlasticHeating>,
 }
 
@@ -106,45 +88,51 @@ pub struct PlasticHeating {
 }
 
 impl Strength {
-    /// Von Mises with linear hardening.
+    /// Shear modulus G > 0 (Pa) and a yield surface.
+    pub fn plastic(
+        shear_modulus: f64,
+        surface: impl YieldSurface + 'static,
+    ) -> Result<Self, SolverError> {
+        positive("shear modulus", shear_modulus)?;
+        Ok(Self {
+            heating: None,
+            tensile_strength: None,
+            shear_modulus,
+            surface: Arc::new(surface),
+        })
+    }
+
+    /// Von Mises with linear hardening (see [`VonMises`]).
     pub fn new(
         shear_modulus: f64,
         yield_stress: f64,
         hardening_modulus: f64,
     ) -> Result<Self, SolverError> {
-        positive("shear modulus", shear_modulus)?;
-        positive("yield stress", yield_stress)?;
-        if !(hardening_modulus >= 0.0 && hardening_modulus.is_finite()) {
-            return Err(SolverError::invalid(
-                "hardening modulus",
-                hardening_modulus,
-                "finite and ≥ 0",
-            ));
-        }
-        Ok(Self {
-            heating: None,
-            tensile_strength: None,
-            shear_modulus,
-            surface: YieldSurface::VonMises {
-                yield_stress,
-                hardening_modulus,
-            },
-        })
+        let surface = VonMises::new(yield_stress, hardening_modulus)?;
+        Self::plastic(shear_modulus, surface)
     }
 
     /// A purely elastic solid (rubber, a lining kept below yield): von Mises with an infinite
     /// yield stress, so the return never acts.
     pub fn elastic(shear_modulus: f64) -> Result<Self, SolverError> {
-        positive("shear modulus", shear_modulus)?;
-        Ok(Self {
-            heating: None,
-            tensile_strength: None,
-            shear_modulus,
-            surface: YieldSurface::VonMises {
-                yield_stress: f64::INFINITY,
-                hardening_modulus: 0.0,
-            },
-        })
+        Self::plastic(shear_modulus, VonMises::never_yielding())
+    }
+
+    /// Drucker–Prager / Mohr–Coulomb for soil (see [`DruckerPrager::new`]).
+    pub fn drucker_prager(
+        shear_modulus: f64,
+        cohesion: f64,
+        friction_angle_degrees: f64,
+        tensile_strength: f64,
+    ) -> Result<Self, SolverError> {
+        let surface = DruckerPrager::new(cohesion, friction_angle_degrees, tensile_strength)?;
+        Self::plastic(shear_modulus, surface)
+    }
+
+    /// Johnson–Cook (see [`JohnsonCook`]), parameters checked by name.
+    pub fn johnson_cook(shear_modulus: f64, parameters: JohnsonCook) -> Result<Self, SolverError> {
+        parameters.validate()?;
+        Self::plastic(shear_modulus, parameters)
     }
 
     /// The same strength with plastic heating: specific heat c > 0 (J/(kg K)) and
@@ -175,11 +163,11 @@ impl Strength {
     /// (Rankine), the cracking of a brittle solid such as concrete. Where a trial stress
     /// exceeds it, the deviator is scaled towards the hydrostatic axis until the largest
     /// principal stress is f_t (all of it where the pressure alone is a tension beyond f_t):
-    /// the radial return of [`Strength::return_map`] onto a tension cutoff. Drucker–Prager
-    /// has its own cutoff on the pressure and refuses a second one.
+    /// the radial return of [`Strength::return_map`] onto a tension cutoff. A surface with its
+    /// own cutoff on the pressure (Drucker–Prager) refuses a second one.
     pub fn with_tensile_strength(self, tensile_strength: f64) -> Result<Self, SolverError> {
         positive("tensile strength", tensile_strength)?;
-        if matches!(self.surface, YieldSurface::DruckerPrager { .. }) {
+        if self.surface.tension_cutoff().is_some() {
             return Err(SolverError::invalid(
                 "tensile strength",
                 tensile_strength,
@@ -192,107 +180,12 @@ impl Strength {
         })
     }
 
-    /// The temperature rise χ w_p / c after plastic work w_p per unit mass, where the material
-    /// knows its heating (Johnson–Cook always does).
+    /// The temperature rise after plastic work w_p per unit mass: the surface's own (Johnson–Cook),
+    /// else χ w_p / c where the material knows its heating.
     pub fn temperature_rise(&self, plastic_work: f64) -> Option<f64> {
-        match (&self.surface, &self.heating) {
-            (YieldSurface::JohnsonCook(jc), _) => {
-                Some(jc.temperature(plastic_work) - jc.room_temperature)
-            }
-            (_, Some(h)) => Some(h.taylor_quinney * plastic_work / h.specific_heat),
-            _ => None,
-        }
-    }
-
-    /// Drucker–Prager / Mohr–Coulomb for soil: cohesion c ≥ 0 (Pa), friction angle φ in degrees
-    /// in [0, 60), tensile strength σ_t ≥ 0 (Pa) no larger than the cone's apex c/tan φ.
-    pub fn drucker_prager(
-        shear_modulus: f64,
-        cohesion: f64,
-        friction_angle_degrees: f64,
-        tensile_strength: f64,
-    ) -> Result<Self, SolverError> {
-        positive("shear modulus", shear_modulus)?;
-        if !(cohesion >= 0.0 && cohesion.is_finite()) {
-            return Err(SolverError::invalid("cohesion", cohesion, "finite and ≥ 0"));
-        }
-        if !(0.0..60.0).contains(&friction_angle_degrees) {
-            return Err(SolverError::invalid(
-                "friction angle",
-                friction_angle_degrees,
-                "0 ≤ φ < 60 degrees",
-            ));
-        }
-        if cohesion == 0.0 && friction_angle_degrees == 0.0 {
-            return Err(SolverError::invalid(
-                "cohesion and friction angle",
-                "0, 0",
-                "not both zero (the material would have no strength)",
-            ));
-        }
-        let phi = friction_angle_degrees.to_radians();
-        let apex = if phi > 0.0 {
-            cohesion / phi.tan()
-        } else {
-            f64::INFINITY
-        };
-        if !(tensile_strength >= 0.0 && tensile_strength <= apex) {
-            return Err(SolverError::invalid(
-                "tensile strength",
-                tensile_strength,
-                &format!("0 ≤ σ_t ≤ c/tan φ = {apex:.4e} Pa (the cone's apex)"),
-            ));
-        }
-        Ok(Self {
-            heating: None,
-            tensile_strength: None,
-            shear_modulus,
-            surface: YieldSurface::DruckerPrager {
-                cohesion,
-                sin_friction: phi.sin(),
-                cos_friction: phi.cos(),
-                tensile_strength,
-            },
-        })
-    }
-
-    /// Johnson–Cook (see [`YieldSurface::JohnsonCook`]), parameters checked by name.
-    pub fn johnson_cook(shear_modulus: f64, parameters: JohnsonCook) -> Result<Self, SolverError> {
-        positive("shear modulus", shear_modulus)?;
-        let jc = parameters;
-        positive("Johnson-Cook A", jc.a)?;
-        positive("Johnson-Cook n", jc.n)?;
-        positive("Johnson-Cook m", jc.m)?;
-        positive("reference strain rate", jc.reference_rate)?;
-        positive("room temperature", jc.room_temperature)?;
-        positive("specific heat", jc.specific_heat)?;
-        for (field, value) in [("Johnson-Cook B", jc.b), ("Johnson-Cook C", jc.c)] {
-            if !(value >= 0.0 && value.is_finite()) {
-                return Err(SolverError::invalid(field, value, "finite and ≥ 0"));
-            }
-        }
-        if !(jc.melt_temperature > jc.room_temperature && jc.melt_temperature.is_finite()) {
-            return Err(SolverError::invalid(
-                "melt temperature",
-                jc.melt_temperature,
-                &format!(
-                    "finite and above the room temperature {} K",
-                    jc.room_temperature
-                ),
-            ));
-        }
-        if !(0.0..=1.0).contains(&jc.taylor_quinney) {
-            return Err(SolverError::invalid(
-                "Taylor-Quinney coefficient",
-                jc.taylor_quinney,
-                "0 ≤ χ ≤ 1",
-            ));
-        }
-        Ok(Self {
-            heating: None,
-            tensile_strength: None,
-            shear_modulus,
-            surface: YieldSurface::JohnsonCook(jc),
+        self.surface.temperature_rise(plastic_work).or_else(|| {
+            self.heating
+                .map(|h| h.taylor_quinney * plastic_work / h.specific_heat)
         })
     }
 
@@ -321,49 +214,16 @@ impl Strength {
 
     /// The limit on σ_eq in the particle's state.
     pub fn current_yield(&self, state: &YieldState) -> f64 {
-        let pressure = state.pressure;
-        match self.surface {
-            YieldSurface::VonMises {
-                yield_stress,
-                hardening_modulus,
-            } => yield_stress + hardening_modulus * state.plastic_strain,
-            YieldSurface::JohnsonCook(jc) => jc.flow_stress(state),
-            YieldSurface::DruckerPrager {
-                cohesion,
-                sin_friction: sin,
-                cos_friction: cos,
-                tensile_strength,
-                ..
-            } => {
-                if pressure < -tensile_strength {
-                    return 0.0;
-                }
-                (6.0 * (cohesion * cos + pressure * sin) / (3.0 - sin)).max(0.0)
-            }
-        }
+        self.surface.limit(state)
     }
 
-    /// The hardening modulus dY/dε_p the return uses: H for von Mises; 0 for Drucker–Prager
-    /// and Johnson–Cook (whose limit is taken at the start of the step: first order in the
-    /// plastic-strain increment).
-    fn hardening(&self) -> f64 {
-        match self.surface {
-            YieldSurface::VonMises {
-                hardening_modulus, ..
-            } => hardening_modulus,
-            YieldSurface::DruckerPrager { .. } | YieldSurface::JohnsonCook(_) => 0.0,
-        }
-    }
-
-    /// Whether a particle at pressure p with deviatoric stress s has failed in tension: a soil
-    /// below its tension cutoff (no shear strength), a brittle solid with its largest principal
-    /// stress at its tensile strength (cracked; to 1e-9 of f_t, as the return leaves it).
+    /// Whether a particle at pressure p with deviatoric stress s has failed in tension: below
+    /// its surface's tension cutoff (no shear strength), or a brittle solid with its largest
+    /// principal stress at its tensile strength (cracked; to 1e-9 of f_t, as the return
+    /// leaves it).
     pub fn failed_in_tension<const D: usize>(&self, pressure: f64, s: &SMatrix<f64, D, D>) -> bool {
-        if let YieldSurface::DruckerPrager {
-            tensile_strength, ..
-        } = self.surface
-        {
-            return pressure < -tensile_strength;
+        if let Some(cutoff) = self.surface.tension_cutoff() {
+            return pressure < -cutoff;
         }
         self.tensile_strength
             .is_some_and(|limit| largest_principal_deviator(s) - pressure >= limit * (1.0 - 1e-9))
@@ -383,7 +243,7 @@ impl Strength {
         let increment = if sigma_eq > yield_stress {
             // consistency with hardening: σ_eq − 3G Δε = Y0 + H (ε_p + Δε)
             let increment =
-                (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.hardening());
+                (sigma_eq - yield_stress) / (3.0 * self.shear_modulus + self.surface.hardening());
             *s *= ((sigma_eq - 3.0 * self.shear_modulus * increment) / sigma_eq).max(0.0);
             increment
         } else {
@@ -408,6 +268,14 @@ fn positive(field: &str, value: f64) -> Result<(), SolverError> {
         Ok(())
     } else {
         Err(SolverError::invalid(field, value, "finite and > 0"))
+    }
+}
+
+fn finite_non_negative(field: &str, value: f64) -> Result<(), SolverError> {
+    if value >= 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(SolverError::invalid(field, value, "finite and ≥ 0"))
     }
 }
 
@@ -478,6 +346,28 @@ mod tests {
     use super::*;
     use nalgebra::{Matrix1, Matrix2, Matrix3};
     use proptest::prelude::*;
+
+    /// A yield surface defined outside this module (here a constant limit, Tresca-like in
+    /// spirit): `Strength::plastic` takes it, and the radial return lands on its limit.
+    #[test]
+    fn a_surface_defined_elsewhere_plugs_in() {
+        #[derive(Debug)]
+        struct Constant(f64);
+        impl YieldSurface for Constant {
+            fn limit(&self, _: &YieldState) -> f64 {
+                self.0
+            }
+        }
+        let strength = Strength::plastic(10e9, Constant(5e6)).unwrap();
+        // uniaxial strain: σ_eq = 3/2 |s_xx|, so s_xx = 8 MPa is σ_eq = 12 MPa
+        let mut s = Matrix1::new(8e6);
+        let increment = strength.return_map(&mut s, &YieldState::default());
+        assert!((von_mises(&s) - 5e6).abs() < 1e-6);
+        // Δε_p = (σ_eq − Y)/(3G) with no hardening
+        assert!((increment - 7e6 / 30e9).abs() < 1e-18);
+        assert!(!strength.failed_in_tension(-1e9, &s));
+        assert!(Strength::plastic(0.0, Constant(5e6)).is_err());
+    }
 
     fn copper() -> Strength {
         Strength::new(43.3e9, 400e6, 100e6).unwrap()
