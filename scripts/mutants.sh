@@ -5,7 +5,7 @@
 # scripts/mutants-equivalent.md with the reason; every other survivor wants a test.
 #
 #   scripts/mutants.sh                          # all of solver/src
-#   scripts/mutants.sh --file solver/src/strength.rs
+#   scripts/mutants.sh --file solver/src/strength/mod.rs
 #
 # Two passes make a file several times cheaper: the library's unit tests first (a second or
 # less per mutant beside the rebuild), then every test of the package on what they missed.
