@@ -230,7 +230,8 @@ mod tests {
             p.n_real(),
         );
         let mut kernel_pairs = KernelPairs::default();
-        kernel_pairs.rebuild(&p, &neighbours, &kernel, PairKernel::MeanH);
+        let all: Vec<usize> = (0..p.n_real()).collect();
+        kernel_pairs.rebuild(&p, &neighbours, &kernel, PairKernel::MeanH, &all);
         let g = radius_gradients(&p, &kernel_pairs);
         assert!(g.iter().all(|&g| g == 1.0), "{g:?}");
     }

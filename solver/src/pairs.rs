@@ -115,15 +115,25 @@ pub fn gather_at<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
     which
         .par_iter()
         .with_min_len(PARTICLES_PER_TASK)
-        .map(|&i| {
-            let me = equation.source(particles, i);
-            let mut sum = equation.start(&me);
-            partners.visit(i, |j, link| {
-                equation.pair(&mut sum, &me, &equation.source(particles, j), link)
-            });
-            equation.finish(&me, sum)
-        })
+        .map(|&i| sum_reading(equation, particles, partners, i))
         .collect()
+}
+
+/// Real particle i's sum over its partners, reading each source from the particles (the
+/// same values [`sources`] packs): for a few particles of a scene.
+#[inline]
+pub fn sum_reading<const D: usize, P: Partners, E: PairEquation<D, P::Link>>(
+    equation: &E,
+    particles: &Particles<D>,
+    partners: &P,
+    i: usize,
+) -> E::Output {
+    let me = equation.source(particles, i);
+    let mut sum = equation.start(&me);
+    partners.visit(i, |j, link| {
+        equation.pair(&mut sum, &me, &equation.source(particles, j), link)
+    });
+    equation.finish(&me, sum)
 }
 
 /// The fewest particles a parallel pass hands to one task: a pass over fewer runs on the

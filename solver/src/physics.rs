@@ -813,36 +813,46 @@ pub struct KernelLink {
 /// place at every rate evaluation, so that its buffers are allocated once.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct KernelPairs {
-    /// The pairs of particles `PAIR_CHUNK·c..PAIR_CHUNK·(c + 1)`, end to end, in chunk c.
+    /// The pairs of the particles in rows `PAIR_CHUNK·c..PAIR_CHUNK·(c + 1)`, end to end, in
+    /// chunk c.
     chunks: Vec<Vec<(u32, KernelLink)>>,
-    /// Where each particle's pairs end in its chunk.
+    /// Where each row's pairs end in its chunk.
     ends: Vec<u32>,
+    /// Each real particle's row (the particles rebuilt for, in their order; `u32::MAX` for
+    /// the others).
+    row: Vec<u32>,
 }
 
 /// Particles per chunk of [`KernelPairs`], each chunk filled by one parallel task.
 const PAIR_CHUNK: usize = 256;
 
 impl KernelPairs {
-    /// The pairs of the real particles' current positions and smoothing lengths.
+    /// The pairs of the real particles `which` (all of them, or those whose individual steps
+    /// end), at their current positions and smoothing lengths.
     pub fn rebuild<const D: usize>(
         &mut self,
         particles: &Particles<D>,
         neighbours: &NeighbourList,
         kernel: &Kernel<D>,
         pair_kernel: PairKernel,
+        which: &[usize],
     ) {
         let p = particles;
-        let n = p.n_real();
-        self.chunks.resize_with(n.div_ceil(PAIR_CHUNK), Vec::new);
-        self.ends.resize(n, 0);
+        self.row.clear();
+        self.row.resize(p.n_real(), u32::MAX);
+        for (row, &i) in which.iter().enumerate() {
+            self.row[i] = row as u32;
+        }
+        self.chunks
+            .resize_with(which.len().div_ceil(PAIR_CHUNK), Vec::new);
+        self.ends.resize(which.len(), 0);
         self.chunks
             .par_iter_mut()
             .zip(self.ends.par_chunks_mut(PAIR_CHUNK))
-            .enumerate()
-            .for_each(|(c, (pairs, ends))| {
+            .zip(which.par_chunks(PAIR_CHUNK))
+            .for_each(|((pairs, ends), rows)| {
                 pairs.clear();
-                for (k, end) in ends.iter_mut().enumerate() {
-                    let i = c * PAIR_CHUNK + k;
+                for (end, &i) in ends.iter_mut().zip(rows) {
                     let (x_i, h_i) = (p.position[i], p.smoothing_length[i]);
                     for j in neighbours.of(i) {
                         let r = (x_i - p.position[j]).norm();
@@ -866,9 +876,14 @@ impl pairs::Partners for KernelPairs {
 
     #[inline]
     fn visit(&self, i: usize, mut visit: impl FnMut(usize, &KernelLink)) {
-        let (chunk, k) = (i / PAIR_CHUNK, i % PAIR_CHUNK);
-        let start = if k == 0 { 0 } else { self.ends[i - 1] as usize };
-        for (j, link) in &self.chunks[chunk][start..self.ends[i] as usize] {
+        let row = self.row[i] as usize;
+        let (chunk, k) = (row / PAIR_CHUNK, row % PAIR_CHUNK);
+        let start = if k == 0 {
+            0
+        } else {
+            self.ends[row - 1] as usize
+        };
+        for (j, link) in &self.chunks[chunk][start..self.ends[row] as usize] {
             visit(*j as usize, link);
         }
     }
@@ -891,6 +906,16 @@ pub struct RateTotals<const D: usize> {
     /// The power leaving through transmitting boundaries (never negative) and as work against
     /// external accelerations (W).
     pub transmitted_power: f64,
+}
+
+impl<const D: usize> std::ops::AddAssign<&RateTotals<D>> for RateTotals<D> {
+    fn add_assign(&mut self, other: &RateTotals<D>) {
+        self.wall_force += other.wall_force;
+        self.viscous_heating += other.viscous_heating;
+        self.artificial_stress_heating += other.artificial_stress_heating;
+        self.hourglass_heating += other.hourglass_heating;
+        self.transmitted_power += other.transmitted_power;
+    }
 }
 
 impl<const D: usize> Default for RateTotals<D> {
@@ -921,7 +946,8 @@ impl<const D: usize> Default for RateTotals<D> {
 /// particle's switch factor where the switch is on; particles that carry their own α
 /// ([`ViscositySwitch`]) scale Π_ij by (α_i + α_j)/(2α). In an axisymmetric `geometry` the pairs see
 /// ring densities and fluxes (see [`crate::axisymmetric`]) and the density rate is Dη/Dt.
-/// Returns the wall force and the viscous heating.
+/// For the real particles `which`; each one's wall force and viscous heating join its entry
+/// in `books`.
 #[allow(clippy::too_many_arguments)]
 pub fn compute_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -930,7 +956,9 @@ pub fn compute_rates<const D: usize>(
     energy: EnergyEquation,
     balsara: Option<&[f64]>,
     geometry: PairGeometry,
-) -> RateTotals<D> {
+    which: &[usize],
+    books: &mut [RateTotals<D>],
+) {
     let equation = EulerRates {
         viscosity,
         energy,
@@ -938,11 +966,10 @@ pub fn compute_rates<const D: usize>(
         geometry,
         balsara,
     };
-    let rates = pairs::gather(&equation, particles, kernel_pairs);
+    let rates = pairs::gather_at(&equation, particles, kernel_pairs, which);
     let p = particles;
     let (continuity, grad_h) = (!p.density_rate.is_empty(), !p.smoothing_rate.is_empty());
-    let mut totals = RateTotals::default();
-    for (i, rate) in rates.iter().enumerate() {
+    for ((&i, rate), book) in which.iter().zip(&rates).zip(books.iter_mut()) {
         p.acceleration[i] = rate.acceleration;
         p.energy_rate[i] = rate.energy_rate;
         p.signal_speed[i] = rate.signal_speed;
@@ -953,13 +980,13 @@ pub fn compute_rates<const D: usize>(
             let density_rate = rate.density_rate / p.omega[i];
             p.smoothing_rate[i] = -p.smoothing_length[i] * density_rate / (D as f64 * p.density[i]);
         }
-        totals.wall_force += rate.wall_force;
-        totals.viscous_heating += p.mass[i] * rate.viscous_heating;
+        book.wall_force += rate.wall_force;
+        book.viscous_heating += p.mass[i] * rate.viscous_heating;
     }
-    totals
 }
 
-/// The velocity gradient L_i = Σ_j m_j w_ij (v_j − v_i) ⊗ ∇_i W_ij of the real particles, with
+/// The velocity gradient L_i = Σ_j m_j w_ij (v_j − v_i) ⊗ ∇_i W_ij of the real particles `which`
+/// (in that order), with
 /// w_ij = 1/(Ω_i ρ_i) in the standard form and 1/ρ_j in the volume form (continuity density):
 /// the weights under which the work of the stress forces equals the deviatoric heating
 /// s_i:ε̇_i/ρ_i exactly (see [`add_stress_rates`]). Also the source of the Balsara switch.
@@ -968,12 +995,13 @@ pub fn velocity_gradients<const D: usize>(
     particles: &Particles<D>,
     kernel_pairs: &KernelPairs,
     geometry: PairGeometry,
+    which: &[usize],
 ) -> Vec<Tensor<D>> {
     let equation = VelocityGradient {
         geometry,
         volume_form: !particles.density_rate.is_empty(),
     };
-    pairs::gather(&equation, particles, kernel_pairs)
+    pairs::gather_at(&equation, particles, kernel_pairs, which)
 }
 
 /// The velocity-gradient pass (see [`velocity_gradients`]).
@@ -1188,8 +1216,9 @@ impl<const D: usize> PairEquation<D, KernelLink> for StressForces<'_, D> {
 /// material m's G (0 for a fluid). With `artificial_stress`, Monaghan's term joins (see
 /// [`ArtificialStress`]). In an axisymmetric `geometry` the pairs see ring densities and
 /// fluxes, and `hoop_rate` (ε̇_θθ per real particle, [`crate::axisymmetric::hoop_strain_rates`])
-/// joins the heating, the equivalent strain rate and the stress rate. Returns the wall force
-/// and the artificial stress's heating (`viscous_heating` 0).
+/// joins the heating, the equivalent strain rate and the stress rate. For the real particles
+/// `which` (`velocity_gradient` in that order); each one's wall force and artificial stress
+/// heating join its entry in `books`.
 #[allow(clippy::too_many_arguments)]
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -1200,7 +1229,9 @@ pub fn add_stress_rates<const D: usize>(
     artificial_stress: Option<ArtificialStress>,
     geometry: PairGeometry,
     hoop_rate: Option<&[f64]>,
-) -> RateTotals<D> {
+    which: &[usize],
+    books: &mut [RateTotals<D>],
+) {
     let equation = StressForces {
         kernel,
         volume_form: !particles.density_rate.is_empty(),
@@ -1208,15 +1239,15 @@ pub fn add_stress_rates<const D: usize>(
         artificial_stress,
         geometry,
     };
-    let rates = pairs::gather(&equation, particles, kernel_pairs);
+    let rates = pairs::gather_at(&equation, particles, kernel_pairs, which);
     let p = particles;
-    let mut totals = RateTotals::default();
-    for (i, (acceleration, wall, heating)) in rates.into_iter().enumerate() {
+    for (k, (acceleration, wall, heating)) in rates.into_iter().enumerate() {
+        let i = which[k];
         p.acceleration[i] += acceleration;
         p.energy_rate[i] += heating;
-        totals.artificial_stress_heating += p.mass[i] * heating;
+        books[k].artificial_stress_heating += p.mass[i] * heating;
         let s = p.deviatoric_stress[i];
-        let gradient = &velocity_gradient[i];
+        let gradient = &velocity_gradient[k];
         let strain_rate = 0.5 * (gradient + gradient.transpose());
         // out of the plane: ε̇_θθ = v_r/r (axisymmetric) or 0 (uniaxial, plane strain), where
         // s_θθ = −tr s
@@ -1229,9 +1260,8 @@ pub fn add_stress_rates<const D: usize>(
         } else {
             Tensor::zeros()
         };
-        totals.wall_force += wall;
+        books[k].wall_force += wall;
     }
-    totals
 }
 
 #[cfg(test)]

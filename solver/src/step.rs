@@ -151,11 +151,20 @@ impl SimulationConfig {
                     &format!("a power of two from 2 to {}", TimeSteps::MAX_RATIO),
                 ));
             }
-            if self.formulation.geometry() == Geometry::Planar {
+            // what each particle's own step is not yet built for: the axis's radius gradients
+            // and grad-h's h are solved for every particle at once, Balsara's factor and the
+            // bonds of total-Lagrangian solids are read from every partner
+            let unsupported = [
+                ("axisymmetric", self.formulation.is_axisymmetric()),
+                ("total-Lagrangian", self.formulation.is_total_lagrangian()),
+                ("grad-h", self.formulation.grad_h().is_some()),
+                ("balsara", self.viscosity.balsara),
+            ];
+            if let Some((what, _)) = unsupported.iter().find(|(_, on)| *on) {
                 return Err(SolverError::invalid(
                     "time_steps",
                     "individual",
-                    "in radial (cylindrical or spherical) scenes",
+                    &format!("global with {what}: individual steps are built for radial scenes and planar Cartesian ones without it"),
                 ));
             }
         }
@@ -240,6 +249,9 @@ pub struct Simulation<const D: usize> {
     particle_updates: u64,
     /// The rate loops' sums at the last force evaluation.
     totals: RateTotals<D>,
+    /// Each real particle's share of them at its last rate evaluation (empty for
+    /// total-Lagrangian solids), which individual time steps book over its own step.
+    books: Vec<RateTotals<D>>,
     wall_impulse: Vector<D>,
     heating: ArtificialHeating,
     /// The energy that left through transmitting boundaries, or as work done against the
@@ -276,6 +288,7 @@ pub struct Checkpoint<const D: usize> {
     steps: u64,
     particle_updates: u64,
     totals: RateTotals<D>,
+    books: Vec<RateTotals<D>>,
     wall_impulse: Vector<D>,
     heating: ArtificialHeating,
     transmitted_energy: f64,
@@ -486,6 +499,19 @@ impl<const D: usize> Simulation<D> {
         if formulation.is_axisymmetric() {
             validate_axisymmetric_scene(init, &domain)?;
         }
+        let imaged = |b: &Boundary| matches!(b, Boundary::Wall | Boundary::Periodic);
+        let individual = matches!(config.time_steps, TimeSteps::Individual { .. });
+        if individual && radial_kernel.is_none() {
+            // a wall's bounce and a periodic wrap act on the drift velocity of a global step
+            if let Some(a) = (0..D).find(|&a| imaged(&domain.lower[a]) || imaged(&domain.upper[a]))
+            {
+                return Err(SolverError::invalid(
+                    "domain sides",
+                    format!("a wall or periodic side on axis {a}"),
+                    "open or transmitting sides with individual time steps in a planar scene",
+                ));
+            }
+        }
         let planar_sums =
             formulation.geometry() == Geometry::Planar && !formulation.is_total_lagrangian();
         if !domain.transmitting_sides().is_empty() && !planar_sums {
@@ -546,6 +572,7 @@ impl<const D: usize> Simulation<D> {
             steps: 0,
             particle_updates: 0,
             totals: RateTotals::default(),
+            books: Vec::new(),
             wall_impulse: Vector::zeros(),
             transmitted_energy: 0.0,
             heating: ArtificialHeating::default(),
@@ -579,39 +606,48 @@ impl<const D: usize> Simulation<D> {
         let p = &mut self.particles;
         let n = p.n_real();
         p.external_acceleration = p.acceleration[..n].iter().map(|a| -a).collect();
-        self.apply_external_accelerations();
-    }
-
-    /// Gives each particle whose motion is prescribed its prescribed acceleration at `time`;
-    /// what that takes beyond its forces is an external force, booked as
-    /// [`Simulation::apply_external_accelerations`] books its own.
-    fn apply_prescribed_motion(&mut self, time: f64) {
-        let Some(motion) = &self.prescribed else {
-            return;
-        };
-        let p = &mut self.particles;
-        for i in 0..p.n_real() {
-            if let Some(prescribed) = motion.acceleration(p.id[i], time) {
-                let external = prescribed - p.acceleration[i];
-                p.acceleration[i] = prescribed;
-                self.totals.wall_force += external * p.mass[i];
-                self.totals.transmitted_power -= p.mass[i] * external.dot(&p.velocity[i]);
+        let all: Vec<usize> = (0..n).collect();
+        let mut external = vec![RateTotals::default(); n];
+        self.apply_external_accelerations(&all, &mut external);
+        for (i, share) in external.iter().enumerate() {
+            self.totals += share;
+            if let Some(book) = self.books.get_mut(i) {
+                *book += share;
             }
         }
     }
 
-    /// Adds each particle's constant external acceleration; its force joins the walls' and its
-    /// power the energy exchanged with the outside.
-    fn apply_external_accelerations(&mut self) {
+    /// Gives each of the real particles `which` whose motion is prescribed its prescribed
+    /// acceleration at `time`; what that takes beyond its forces is an external force, booked
+    /// in its entry of `books` as [`Simulation::apply_external_accelerations`] books its own.
+    fn apply_prescribed_motion(&mut self, time: f64, which: &[usize], books: &mut [RateTotals<D>]) {
+        let Some(motion) = &self.prescribed else {
+            return;
+        };
+        let p = &mut self.particles;
+        for (&i, book) in which.iter().zip(books) {
+            if let Some(prescribed) = motion.acceleration(p.id[i], time) {
+                let external = prescribed - p.acceleration[i];
+                p.acceleration[i] = prescribed;
+                book.wall_force += external * p.mass[i];
+                book.transmitted_power -= p.mass[i] * external.dot(&p.velocity[i]);
+            }
+        }
+    }
+
+    /// Adds the constant external acceleration of each of the real particles `which`; in its
+    /// entry of `books` its force joins the walls' and its power the energy exchanged with the
+    /// outside.
+    fn apply_external_accelerations(&mut self, which: &[usize], books: &mut [RateTotals<D>]) {
         let p = &mut self.particles;
         if p.external_acceleration.is_empty() {
             return;
         }
-        for i in 0..p.n_real() {
+        for (&i, book) in which.iter().zip(books) {
             let a = p.external_acceleration[i];
             p.acceleration[i] += a;
-            self.totals.wall_force += a * p.mass[i];
-            self.totals.transmitted_power -= p.mass[i] * a.dot(&p.velocity[i]);
+            book.wall_force += a * p.mass[i];
+            book.transmitted_power -= p.mass[i] * a.dot(&p.velocity[i]);
         }
     }
 
@@ -681,6 +717,7 @@ impl<const D: usize> Simulation<D> {
             steps: self.steps,
             particle_updates: self.particle_updates,
             totals: self.totals,
+            books: self.books.clone(),
             wall_impulse: self.wall_impulse,
             heating: self.heating,
             transmitted_energy: self.transmitted_energy,
@@ -720,6 +757,7 @@ impl<const D: usize> Simulation<D> {
             steps,
             particle_updates,
             totals,
+            books,
             wall_impulse,
             heating,
             transmitted_energy,
@@ -738,6 +776,7 @@ impl<const D: usize> Simulation<D> {
         self.steps = steps;
         self.particle_updates = particle_updates;
         self.totals = totals;
+        self.books = books;
         self.wall_impulse = wall_impulse;
         self.heating = heating;
         self.transmitted_energy = transmitted_energy;
@@ -816,14 +855,9 @@ impl<const D: usize> Simulation<D> {
         let start = Instant::now();
         self.close_kick(&all, |_| 0.5 * dt);
         // the trapezoid rule, as the kicks integrate v and e
-        let after = self.totals;
-        self.wall_impulse += (before.wall_force + after.wall_force) * (0.5 * dt);
-        self.heating.viscosity += (before.viscous_heating + after.viscous_heating) * (0.5 * dt);
-        self.heating.artificial_stress +=
-            (before.artificial_stress_heating + after.artificial_stress_heating) * (0.5 * dt);
-        self.heating.hourglass += (before.hourglass_heating + after.hourglass_heating) * (0.5 * dt);
-        self.transmitted_energy +=
-            (before.transmitted_power + after.transmitted_power) * (0.5 * dt);
+        let mut both = before;
+        both += &self.totals;
+        self.book(&both, 0.5 * dt);
         self.time += dt;
         self.steps += 1;
         self.particle_updates += all.len() as u64;
@@ -870,12 +904,19 @@ impl<const D: usize> Simulation<D> {
         let start = Instant::now();
         self.evaluate_density(&all);
         self.evaluate_state(self.time, &all);
+        self.particles.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        self.evaluate_radial_rates(&active, |i| blocks.step_of(i));
+        let books = self.evaluate_rates_of(self.time, &active, |i| blocks.step_of(i));
         self.times.forces += start.elapsed().as_secs_f64();
         let start = Instant::now();
         self.close_kick(&active, |i| 0.5 * blocks.step_of(i));
+        // the closing half of each step at its end's rates; the opening half of the next at
+        // the same rates when it starts
+        for (&i, share) in active.iter().zip(books) {
+            self.book(&share, 0.5 * blocks.step_of(i));
+            self.books[i] = share;
+        }
         self.steps += 1;
         self.particle_updates += active.len() as u64;
         let started = if blocks.finished() {
@@ -918,6 +959,7 @@ impl<const D: usize> Simulation<D> {
         }
         let all: Vec<usize> = (0..n).collect();
         self.kick(&all, |i| 0.5 * blocks.step_of(i));
+        self.book_opening_halves(&blocks, &all);
         self.save_half(&all);
         Ok(blocks)
     }
@@ -946,15 +988,16 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// x += v^{n+½}·dt for every real particle, each with the velocity of its own half step
-    /// (a shell that crosses the origin comes out on the other side).
+    /// (in a radial scene a shell that crosses the origin comes out on the other side).
     fn drift_on_half_steps(&mut self, dt: f64) {
+        let radial = self.radial_kernel.is_some();
         let (p, half) = (&mut self.particles, &mut self.half);
         for i in 0..p.n_real() {
             p.position[i] += half.velocity[i] * dt;
             if let Some(xsph) = p.xsph_velocity.get(i) {
                 p.position[i] += xsph * dt;
             }
-            if p.position[i][0] < 0.0 {
+            if radial && p.position[i][0] < 0.0 {
                 p.position[i] = -p.position[i];
                 half.velocity[i] = -half.velocity[i];
                 p.acceleration[i] = -p.acceleration[i];
@@ -1004,8 +1047,28 @@ impl<const D: usize> Simulation<D> {
             }
         }
         self.kick(which, |i| 0.5 * blocks.step_of(i));
+        self.book_opening_halves(blocks, which);
         self.save_half(which);
         Ok(())
+    }
+
+    /// Books the opening half of the new steps of the real particles `which` at the rates of
+    /// their last evaluation.
+    fn book_opening_halves(&mut self, blocks: &BlockSteps, which: &[usize]) {
+        for &i in which {
+            let share = self.books[i];
+            self.book(&share, 0.5 * blocks.step_of(i));
+        }
+    }
+
+    /// Books the walls' impulse, the artificial heating and the energy exchanged with the
+    /// outside of sums `totals` held for a time `dt`.
+    fn book(&mut self, totals: &RateTotals<D>, dt: f64) {
+        self.wall_impulse += totals.wall_force * dt;
+        self.heating.viscosity += totals.viscous_heating * dt;
+        self.heating.artificial_stress += totals.artificial_stress_heating * dt;
+        self.heating.hourglass += totals.hourglass_heating * dt;
+        self.transmitted_energy += totals.transmitted_power * dt;
     }
 
     /// The stable global time step, or a diagnosis if it has collapsed.
@@ -1233,17 +1296,37 @@ impl<const D: usize> Simulation<D> {
         self.particles.refresh_image_state();
         self.times.density += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        if self.radial_kernel.is_some() {
-            let dt = time - self.time;
-            self.evaluate_radial_rates(&all, |_| dt);
-        } else {
-            self.evaluate_pair_rates(time);
+        let dt = time - self.time;
+        self.books = self.evaluate_rates_of(time, &all, |_| dt);
+        self.totals = RateTotals::default();
+        for share in &self.books {
+            self.totals += share;
         }
-        self.apply_transmitting_boundaries();
-        self.apply_external_accelerations();
-        self.apply_prescribed_motion(time);
         self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// The rates of the real particles `which`, whose steps (of length `dt(i)`) end at `time`,
+    /// from the state of every particle: the pair passes (radial, or planar and
+    /// axisymmetric), then the traction of transmitting sides, the external accelerations and
+    /// the prescribed motions. Returns each one's share of the rate totals (in `which`'s
+    /// order).
+    fn evaluate_rates_of(
+        &mut self,
+        time: f64,
+        which: &[usize],
+        dt: impl Fn(usize) -> f64,
+    ) -> Vec<RateTotals<D>> {
+        let mut books = vec![RateTotals::default(); which.len()];
+        if self.radial_kernel.is_some() {
+            self.evaluate_radial_rates(which, dt);
+        } else {
+            self.evaluate_pair_rates(which, dt, &mut books);
+        }
+        self.apply_transmitting_boundaries(which, &mut books);
+        self.apply_external_accelerations(which, &mut books);
+        self.apply_prescribed_motion(time, which, &mut books);
+        books
     }
 
     /// The radial pair passes for the real particles `which`, whose steps (of length `dt(i)`)
@@ -1266,7 +1349,6 @@ impl<const D: usize> Simulation<D> {
             relax_viscosity(&mut self.particles, switch, alpha_max, updates);
         }
         let shear_modulus = shear_moduli(&self.materials);
-        self.totals = RateTotals::default();
         radial::radial_rates(
             &mut self.particles,
             &shell_pairs,
@@ -1282,9 +1364,10 @@ impl<const D: usize> Simulation<D> {
     /// side's pressure: a_i = −w_i (c_P v_n n + c_S v_t) with w_i = max(0, −2 g_i·n) and
     /// g_i = Σ_j V_j ∇_i W_ij, which is zero inside the material and, at a free side, the
     /// weight with which the pressure terms (p_i + p_j) give each particle its share of the
-    /// side's traction (Σ_i V_i w_i = A). Its force joins the walls' force and its power the
-    /// transmitted power, so that momentum and energy stay accounted for.
-    fn apply_transmitting_boundaries(&mut self) {
+    /// side's traction (Σ_i V_i w_i = A). For the real particles `which`: in each one's entry of
+    /// `books` its force joins the walls' force and its power the transmitted power, so that
+    /// momentum and energy stay accounted for.
+    fn apply_transmitting_boundaries(&mut self, which: &[usize], books: &mut [RateTotals<D>]) {
         let sides = self.domain.transmitting_sides();
         if sides.is_empty() {
             return;
@@ -1294,9 +1377,8 @@ impl<const D: usize> Simulation<D> {
             kernel: &self.kernel,
             axisymmetric: self.config.formulation.is_axisymmetric(),
         };
-        let sources = pairs::sources(&equation, &self.particles);
         let p = &mut self.particles;
-        for i in 0..p.n_real() {
+        for (&i, book) in which.iter().zip(books) {
             let reach = self.kernel.support_radius(p.smoothing_length[i]);
             let near: Vec<_> = sides
                 .iter()
@@ -1305,7 +1387,7 @@ impl<const D: usize> Simulation<D> {
             if near.is_empty() {
                 continue;
             }
-            let g = pairs::sum_at(&equation, &sources, &self.neighbours, i);
+            let g = pairs::sum_reading(&equation, p, &self.neighbours, i);
             let shear_speed = (shear_modulus[p.material_of(i)] / p.density[i]).sqrt();
             for &&(a, _, outward) in &near {
                 let weight = (-2.0 * outward * g[a]).max(0.0);
@@ -1320,8 +1402,8 @@ impl<const D: usize> Simulation<D> {
                     acceleration[b] = -speed * v[b] * weight;
                 }
                 p.acceleration[i] += acceleration;
-                self.totals.wall_force += acceleration * p.mass[i];
-                self.totals.transmitted_power -= p.mass[i] * acceleration.dot(&v);
+                book.wall_force += acceleration * p.mass[i];
+                book.transmitted_power -= p.mass[i] * acceleration.dot(&v);
             }
         }
     }
@@ -1425,15 +1507,23 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// The planar and axisymmetric pair passes, in order: the axis's radius gradients and hoop
-    /// rates (axisymmetric) → velocity gradients (solids, Balsara, the viscosity switch) → each
-    /// particle's Balsara factor and α → the Euler pair terms → the stress pair terms (solids) →
-    /// the hoop terms (axisymmetric).
-    fn evaluate_pair_rates(&mut self, time: f64) {
+    /// The planar and axisymmetric pair passes of the real particles `which`, whose steps (of
+    /// length `dt(i)`) end at this state, in order: the axis's radius gradients and hoop rates
+    /// (axisymmetric) → velocity gradients (solids, Balsara, the viscosity switch) → each
+    /// particle's Balsara factor and α → the Euler pair terms → the stress pair terms (solids)
+    /// → the hoop terms (axisymmetric). Each particle's share of the rate totals joins its
+    /// entry in `books`. Individual time steps pass some particles (never in an axisymmetric
+    /// scene or with Balsara's switch, see [`SimulationConfig::validate`]); a global step all.
+    fn evaluate_pair_rates(
+        &mut self,
+        which: &[usize],
+        dt: impl Fn(usize) -> f64,
+        books: &mut [RateTotals<D>],
+    ) {
         let p = &mut self.particles;
         let pair_kernel = self.config.formulation.pair_kernel();
         let kernel_pairs = &mut self.kernel_pairs;
-        kernel_pairs.rebuild(p, &self.neighbours, &self.kernel, pair_kernel);
+        kernel_pairs.rebuild(p, &self.neighbours, &self.kernel, pair_kernel, which);
         let kernel_pairs = &*kernel_pairs;
         let pair_geometry = if self.config.formulation.is_axisymmetric() {
             PairGeometry::Axisymmetric
@@ -1449,13 +1539,15 @@ impl<const D: usize> Simulation<D> {
         let hoop_rate_of = |i: usize| hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
         let switch = self.config.viscosity.switch;
         let gradients = (solids || self.config.viscosity.balsara || switch.is_some())
-            .then(|| physics::velocity_gradients(p, kernel_pairs, pair_geometry));
+            .then(|| physics::velocity_gradients(p, kernel_pairs, pair_geometry, which));
         let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
             (Some(gradients), true) => Some(
-                (0..p.n_real())
-                    .map(|i| {
+                which
+                    .iter()
+                    .zip(gradients)
+                    .map(|(&i, gradient)| {
                         physics::balsara_factor(
-                            &gradients[i],
+                            gradient,
                             hoop_rate_of(i),
                             p.sound_speed[i],
                             p.smoothing_length[i],
@@ -1466,21 +1558,25 @@ impl<const D: usize> Simulation<D> {
             _ => None,
         };
         if let (Some(switch), Some(gradients)) = (switch, &gradients) {
-            let dt = time - self.time;
-            let updates = (0..p.n_real()).map(|i| (i, dt, gradients[i].trace() + hoop_rate_of(i)));
+            let updates = which
+                .iter()
+                .zip(gradients)
+                .map(|(&i, gradient)| (i, dt(i), gradient.trace() + hoop_rate_of(i)));
             relax_viscosity(p, switch, self.config.viscosity.alpha, updates);
         }
-        self.totals = physics::compute_rates(
+        physics::compute_rates(
             p,
             kernel_pairs,
             &self.config.viscosity,
             self.config.energy,
             balsara.as_deref(),
             pair_geometry,
+            which,
+            books,
         );
         if let (true, Some(gradients)) = (solids, &gradients) {
             let shear_modulus = shear_moduli(&self.materials);
-            let stress = physics::add_stress_rates(
+            physics::add_stress_rates(
                 p,
                 kernel_pairs,
                 &self.kernel,
@@ -1489,9 +1585,9 @@ impl<const D: usize> Simulation<D> {
                 self.config.viscosity.artificial_stress,
                 pair_geometry,
                 hoop_rate.as_deref(),
+                which,
+                books,
             );
-            self.totals.wall_force += stress.wall_force;
-            self.totals.artificial_stress_heating = stress.artificial_stress_heating;
         }
         if let (Some(g), Some(hoop_rate)) = (&radius_gradient, &hoop_rate) {
             axisymmetric::add_hoop_terms(p, g, hoop_rate);

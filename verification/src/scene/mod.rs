@@ -180,7 +180,23 @@ struct NumericsFile {
     cfl: Option<f64>,
     eta: Option<f64>,
     alpha_min: Option<f64>,
+    time_steps: Option<StepChoice>,
 }
+
+/// How a scene's particles share time: one global step, or each its own (power-of-two
+/// block steps within a factor 4 of its neighbours', the longest at most
+/// [`INDIVIDUAL_MAX_RATIO`] times the shortest).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepChoice {
+    #[default]
+    Global,
+    Individual,
+}
+
+/// The longest individual step in a scene over the shortest: a tunnel lining's steps are
+/// about twenty times shorter than its soil's.
+pub const INDIVIDUAL_MAX_RATIO: u64 = 64;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -304,6 +320,7 @@ pub struct Scene {
     pub cfl: f64,
     pub eta: f64,
     pub alpha_min: f64,
+    pub time_steps: StepChoice,
     /// Gravity's magnitude (m/s², acting down the vertical axis) and the ground surface's
     /// height: the bodies start in the geostatic state (see `run.rs`).
     pub gravity: Option<Gravity>,
@@ -480,6 +497,7 @@ impl Scene {
             ));
         }
         let sides = sides(&cx, &file.domain.sides, geometry, &lo)?;
+        let time_steps = time_steps(&cx, file.numerics.as_ref(), geometry, &sides)?;
 
         let library = Library::standard();
         let mut materials: Vec<SceneMaterial> = Vec::new();
@@ -644,6 +662,7 @@ impl Scene {
             cfl,
             eta,
             alpha_min,
+            time_steps,
             gravity,
             lo,
             hi,
@@ -837,6 +856,31 @@ fn numerics(
             "",
         )?,
     ))
+}
+
+/// `numerics.time_steps`, where the solver builds individual steps: plane-strain and 3D
+/// scenes with open or transmitting sides.
+fn time_steps(
+    cx: &Context,
+    numerics: Option<&Spanned<NumericsFile>>,
+    geometry: Geometry,
+    sides: &[(Boundary, Boundary)],
+) -> Result<StepChoice, VerifyError> {
+    let Some(n) = numerics else {
+        return Ok(StepChoice::Global);
+    };
+    let choice = n.get_ref().time_steps.unwrap_or_default();
+    let imaged = |b: &Boundary| matches!(b, Boundary::Wall | Boundary::Periodic);
+    let walled = sides.iter().any(|(lo, hi)| imaged(lo) || imaged(hi));
+    if choice == StepChoice::Individual && (geometry == Geometry::Axisymmetric || walled) {
+        return Err(cx.error(
+            n.span(),
+            "numerics.time_steps",
+            "\"individual\" in plane-strain and 3D scenes whose sides are open or transmitting \
+             (\"global\" otherwise)",
+        ));
+    }
+    Ok(choice)
 }
 
 fn sides(

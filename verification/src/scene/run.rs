@@ -11,7 +11,7 @@
 //! the simulation's state between two steps, from which it resumes bitwise (see
 //! [`Checkpoints`]); a finished run removes it.
 
-use super::{contains, Body, Geometry, Gravity, Scene};
+use super::{contains, Body, Geometry, Gravity, Scene, StepChoice, INDIVIDUAL_MAX_RATIO};
 use crate::gauges::ARRIVAL_FRACTION;
 use crate::problems::viscosity_switched_down_to;
 use crate::report::write_atomic;
@@ -586,7 +586,12 @@ fn config(scene: &Scene) -> SimulationConfig {
         .map(|b| b.spacing)
         .fold(f64::INFINITY, f64::min);
     SimulationConfig {
-        time_steps: blastsph_solver::TimeSteps::Global,
+        time_steps: match scene.time_steps {
+            StepChoice::Global => blastsph_solver::TimeSteps::Global,
+            StepChoice::Individual => blastsph_solver::TimeSteps::Individual {
+                max_ratio: INDIVIDUAL_MAX_RATIO,
+            },
+        },
         // continuity density: several materials of very different densities side by side
         formulation: match scene.geometry {
             Geometry::Axisymmetric => Formulation::Axisymmetric(smoothing),
