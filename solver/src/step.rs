@@ -421,13 +421,6 @@ impl<const D: usize> Simulation<D> {
             one_each("lighting times", burn.lighting_time.len())?;
         }
         let external = state.held_in_equilibrium || state.prescribed.is_some();
-        if external && config.time_steps != TimeSteps::Global {
-            return Err(SolverError::invalid(
-                "held in equilibrium or prescribed motion",
-                "with individual time steps",
-                "global time steps (the external forces' work is booked per global step)",
-            ));
-        }
         if external && config.formulation.is_total_lagrangian() {
             return Err(SolverError::invalid(
                 "held in equilibrium or prescribed motion",

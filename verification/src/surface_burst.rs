@@ -9,7 +9,7 @@
 //! bottom and the far side transmit (Lysmer–Kuhlemeyer), the axis is a wall, the top open:
 //! there is no air above the ground, the products expand into vacuum.
 
-use crate::scene::Scene;
+use crate::scene::{Scene, StepChoice};
 use crate::VerifyError;
 use serde::Serialize;
 
@@ -43,8 +43,12 @@ pub fn hemisphere_radius(charge_kg: f64) -> f64 {
 }
 
 /// What every scene of the ground shares: gravity with the ground's surface at z = 0, the
-/// smoothing, and the soil as material "soil".
-pub fn ground(soil: &Soil) -> String {
+/// smoothing, the time steps, and the soil as material "soil".
+pub fn ground(soil: &Soil, time_steps: StepChoice) -> String {
+    let time_steps = match time_steps {
+        StepChoice::Global => "global",
+        StepChoice::Individual => "individual",
+    };
     format!(
         r#"[gravity]
 acceleration = {GRAVITY}
@@ -52,6 +56,7 @@ surface = 0.0
 
 [numerics]
 eta = {ETA}
+time_steps = "{time_steps}"
 
 [[material]]
 name = "soil"
@@ -139,7 +144,7 @@ subtract = ["soil-near", "soil-mid"]
 
 {gauges}"#,
             library = self.soil.library,
-            ground = ground(self.soil),
+            ground = ground(self.soil, StepChoice::Global),
             end_time = self.end_time_s,
             radius_m = self.radius_m,
             zmin = -self.depth_m,

@@ -23,7 +23,9 @@
 use crate::gate::{run_gate, GateRequest};
 use crate::problems::ground_shock::soil_model;
 use crate::record::Check;
-use crate::scene::{current_index, particles, run_with, Checkpoints, Observer, RunSummary, Scene};
+use crate::scene::{
+    current_index, particles, run_with, Checkpoints, Observer, RunSummary, Scene, StepChoice,
+};
 use crate::surface_burst::{ground, hemisphere_radius, p_wave_speed, Soil, SurfaceBurst, ETA};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
@@ -192,7 +194,8 @@ position = [0.0, {invert_z}]
 "#,
         depth = case.depth_m,
         charge = case.charge_kg,
-        ground = ground(soil),
+        // the lining's steps are about twenty times shorter than the soil's
+        ground = ground(soil, StepChoice::Individual),
         // twenty particle snapshots of the section (pressure, von Mises stress, status)
         snapshot_interval = end_time / 20.0,
         lining = lining_material(tunnel),
@@ -355,7 +358,8 @@ position = [{side_x}, {side_g}, {side_z}]
         charge = case.charge_kg,
         snapshot_interval = end_time / 20.0,
         ztop = 2.0 * rc,
-        ground = ground(soil),
+        // symmetry walls: individual steps are not built for them
+        ground = ground(soil, StepChoice::Global),
         lining = lining_material(tunnel),
         s1 = near_spacing(2.0),
         s2 = near_spacing(4.0),
