@@ -167,29 +167,33 @@ impl<const D: usize> Domain<D> {
         }
     }
 
-    /// Reflects real particles that crossed a wall in the last drift back across it, with their
-    /// normal velocity reversed: a specular bounce, which is what a frictionless wall or a
-    /// symmetry plane does (the mirror images usually keep particles off the wall; a particle
-    /// sliding along it in plastic flow can still cross by a hair). Returns the impulse the
-    /// walls gave, Σ 2 m |v_n|, so that momentum stays accounted for.
-    pub fn reflect_at_walls(&self, particles: &mut Particles<D>) -> Vector<D> {
+    /// Reflects the real particles that crossed a wall in the last drift (their `position`s)
+    /// back across it, with the normal component of the `velocity` they drift with reversed:
+    /// a specular bounce, which is what a frictionless wall or a symmetry plane does (the
+    /// mirror images usually keep particles off the wall; a particle sliding along it in
+    /// plastic flow can still cross by a hair). Returns the impulse the walls gave,
+    /// Σ 2 m |v_n|, so that momentum stays accounted for.
+    pub fn reflect_at_walls(
+        &self,
+        position: &mut [Vector<D>],
+        velocity: &mut [Vector<D>],
+        mass: &[f64],
+    ) -> Vector<D> {
         let mut impulse = Vector::<D>::zeros();
-        for i in 0..particles.n_real() {
+        for ((x, v), m) in position.iter_mut().zip(velocity).zip(mass) {
             for a in 0..D {
-                let x = particles.position[i][a];
                 // the wall crossed, and the sign of its inward normal
-                let crossed = if self.lower[a] == Boundary::Wall && x < self.lo[a] {
+                let crossed = if self.lower[a] == Boundary::Wall && x[a] < self.lo[a] {
                     Some((self.lo[a], 1.0))
-                } else if self.upper[a] == Boundary::Wall && x > self.hi[a] {
+                } else if self.upper[a] == Boundary::Wall && x[a] > self.hi[a] {
                     Some((self.hi[a], -1.0))
                 } else {
                     None
                 };
                 if let Some((wall, inward)) = crossed {
-                    particles.position[i][a] = 2.0 * wall - x;
-                    let v = particles.velocity[i][a];
-                    particles.velocity[i][a] = -v;
-                    impulse[a] += inward * 2.0 * particles.mass[i] * v.abs();
+                    x[a] = 2.0 * wall - x[a];
+                    impulse[a] += inward * 2.0 * m * v[a].abs();
+                    v[a] = -v[a];
                 }
             }
         }
@@ -526,7 +530,9 @@ mod tests {
             Vector::<2>::repeat(1.0),
             [Boundary::Wall; 2],
         );
-        let impulse = domain.reflect_at_walls(&mut p);
+        let n = p.n_real();
+        let impulse =
+            domain.reflect_at_walls(&mut p.position[..n], &mut p.velocity[..n], &p.mass[..n]);
         assert_eq!(p.position[0], Vector::<2>::new(0.01, 0.5));
         assert_eq!(p.velocity[0], Vector::<2>::new(2.0, 1.0));
         assert!((p.position[1] - Vector::<2>::new(0.5, 0.98)).norm() < 1e-15);

@@ -492,16 +492,15 @@ impl<const D: usize> Simulation<D> {
         if formulation.is_axisymmetric() {
             validate_axisymmetric_scene(init, &domain)?;
         }
-        let imaged = |b: &Boundary| matches!(b, Boundary::Wall | Boundary::Periodic);
         let individual = matches!(config.time_steps, TimeSteps::Individual { .. });
         if individual && radial_kernel.is_none() {
-            // a wall's bounce and a periodic wrap act on the drift velocity of a global step
-            if let Some(a) = (0..D).find(|&a| imaged(&domain.lower[a]) || imaged(&domain.upper[a]))
-            {
+            // the periodic wrap moves particles by a box length between searches, which the
+            // kept lists of individual steps do not follow yet
+            if let Some(a) = (0..D).find(|&a| domain.lower[a] == Boundary::Periodic) {
                 return Err(SolverError::invalid(
                     "domain sides",
-                    format!("a wall or periodic side on axis {a}"),
-                    "open or transmitting sides with individual time steps in a planar scene",
+                    format!("periodic on axis {a}"),
+                    "open, wall or transmitting sides with individual time steps in a planar scene",
                 ));
             }
         }
@@ -981,11 +980,13 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// x += v^{n+½}·dt for every real particle, each with the velocity of its own half step
-    /// (in a radial scene a shell that crosses the origin comes out on the other side).
+    /// (in a radial scene a shell that crosses the origin comes out on the other side; a
+    /// particle that crosses a wall bounces back).
     fn drift_on_half_steps(&mut self, dt: f64) {
         let radial = self.radial_kernel.is_some();
         let (p, half) = (&mut self.particles, &mut self.half);
-        for i in 0..p.n_real() {
+        let n = p.n_real();
+        for i in 0..n {
             p.position[i] += half.velocity[i] * dt;
             if let Some(xsph) = p.xsph_velocity.get(i) {
                 p.position[i] += xsph * dt;
@@ -996,6 +997,12 @@ impl<const D: usize> Simulation<D> {
                 p.acceleration[i] = -p.acceleration[i];
             }
         }
+        // a particle that crossed a wall bounces with the velocity it drifts on
+        self.wall_impulse += self.domain.reflect_at_walls(
+            &mut p.position[..n],
+            &mut half.velocity[..n],
+            &p.mass[..n],
+        );
     }
 
     /// The real particles whose steps end now, and those woken by a neighbour's step more than
@@ -1234,7 +1241,9 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
-        self.wall_impulse += self.domain.reflect_at_walls(p);
+        self.wall_impulse +=
+            self.domain
+                .reflect_at_walls(&mut p.position[..n], &mut p.velocity[..n], &p.mass[..n]);
         // the grad-h iteration starts from h + Dh/Dt·Δt (kept within a factor of two)
         for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
             *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);

@@ -859,7 +859,7 @@ fn numerics(
 }
 
 /// `numerics.time_steps`, where the solver builds individual steps: plane-strain and 3D
-/// scenes with open or transmitting sides.
+/// scenes without periodic sides.
 fn time_steps(
     cx: &Context,
     numerics: Option<&Spanned<NumericsFile>>,
@@ -870,14 +870,13 @@ fn time_steps(
         return Ok(StepChoice::Global);
     };
     let choice = n.get_ref().time_steps.unwrap_or_default();
-    let imaged = |b: &Boundary| matches!(b, Boundary::Wall | Boundary::Periodic);
-    let walled = sides.iter().any(|(lo, hi)| imaged(lo) || imaged(hi));
-    if choice == StepChoice::Individual && (geometry == Geometry::Axisymmetric || walled) {
+    let periodic = sides.iter().any(|&(lo, _)| lo == Boundary::Periodic);
+    if choice == StepChoice::Individual && (geometry == Geometry::Axisymmetric || periodic) {
         return Err(cx.error(
             n.span(),
             "numerics.time_steps",
-            "\"individual\" in plane-strain and 3D scenes whose sides are open or transmitting \
-             (\"global\" otherwise)",
+            "\"individual\" in plane-strain and 3D scenes without periodic sides (\"global\" \
+             otherwise)",
         ));
     }
     Ok(choice)

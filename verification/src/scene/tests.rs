@@ -347,18 +347,20 @@ fn bodies_in_contact_may_not_jump_in_spacing_by_more_than_two() {
 }
 
 /// Individual time steps are refused by name, with the line of `[numerics]`, where the solver
-/// does not build them: here beside a wall (the valid scene's bottom).
+/// does not build them: here in an axisymmetric scene.
 #[test]
-fn individual_time_steps_are_refused_beside_walls() {
-    let text = VALID.replace(
-        "[[material]]\nname = \"sand\"",
-        "[numerics]\ntime_steps = \"individual\"\n\n[[material]]\nname = \"sand\"",
-    );
-    let (line, key, message) = error_of(&text);
+fn individual_time_steps_are_refused_in_an_axisymmetric_scene() {
+    let text = "[scene]\nname = \"rz\"\ngeometry = \"axisymmetric\"\nend_time = 1e-4\n\n\
+                [numerics]\ntime_steps = \"individual\"\n\n\
+                [domain]\nmin = [0.0, -1.0]\nmax = [1.0, 0.0]\n\
+                sides = { x_min = \"wall\", x_max = \"open\", y_min = \"open\", y_max = \"open\" }\n\n\
+                [[material]]\nname = \"air\"\nlibrary = \"air\"\n\n\
+                [[body]]\nname = \"air\"\nmaterial = \"air\"\nspacing = 0.1\n\
+                shape = { kind = \"box\", min = [0.0, -1.0], max = [1.0, 0.0] }\n";
+    let (line, key, message) = error_of(text);
     assert_eq!(key, "numerics.time_steps");
-    // `[numerics]` sits where the first `[[material]]` was
-    assert_eq!(line, line_starting("[[material]]"));
-    assert!(message.contains("open or transmitting"), "{message}");
+    assert_eq!(line, 6);
+    assert!(message.contains("plane-strain and 3D"), "{message}");
 }
 
 /// The valid scene without its charge, with gravity.
@@ -396,15 +398,12 @@ fn ground_in_its_geostatic_state_stays_at_rest_held_by_gravity() {
         "{}",
         summary.max_displacement_m
     );
-    // the same with individual time steps (a transmitting bottom: they are not built for
-    // walls): the lining's and the soil's steps then differ, and each particle's external
-    // acceleration still holds it
-    let individual = ground_at_rest()
-        .replace("y_min = \"wall\"", "y_min = \"transmitting\"")
-        .replace(
-            "[gravity]",
-            "[numerics]\ntime_steps = \"individual\"\n\n[gravity]",
-        );
+    // the same with individual time steps: the lining's and the soil's steps then differ,
+    // and each particle's external acceleration still holds it
+    let individual = ground_at_rest().replace(
+        "[gravity]",
+        "[numerics]\ntime_steps = \"individual\"\n\n[gravity]",
+    );
     let mut scene = Scene::parse(&individual).expect("the scene is valid");
     assert_eq!(scene.time_steps, StepChoice::Individual);
     scene.output_interval = None;
