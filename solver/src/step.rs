@@ -1946,7 +1946,7 @@ mod tests {
 
     /// Gas shells of unit density on an uneven lattice (widths 0.8–1.2 dr) with the given
     /// velocities, XSPH's ε = 0.5, their rates evaluated.
-    fn xsph_shells(velocities: &[f64]) -> Simulation<1> {
+    fn xsph_shells(velocities: &[f64], time_steps: TimeSteps) -> Simulation<1> {
         use crate::random::SplitMix64;
         let mut rng = SplitMix64::new(7);
         let dr = 0.01;
@@ -1971,6 +1971,7 @@ mod tests {
         let config = SimulationConfig {
             formulation: Formulation::Spherical(ShellDensity::Continuity(SmoothingLength::Fixed)),
             xsph: 0.5,
+            time_steps,
             ..SimulationConfig::default()
         };
         let gas = vec![Material::new("gas", IdealGas::new(1.4).unwrap())];
@@ -1986,11 +1987,11 @@ mod tests {
     /// pair's averaged kernel.
     #[test]
     fn xsph_drift_is_a_momentum_free_share_of_the_neighbours_motion() {
-        let alike = xsph_shells(&[3.0; 30]);
+        let alike = xsph_shells(&[3.0; 30], TimeSteps::Global);
         assert!(alike.particles.xsph_velocity.iter().all(|d| d[0] == 0.0));
         let mut rng = crate::random::SplitMix64::new(11);
         let velocities: Vec<f64> = (0..30).map(|_| rng.uniform() - 0.5).collect();
-        let sim = xsph_shells(&velocities);
+        let sim = xsph_shells(&velocities, TimeSteps::Global);
         let p = &sim.particles;
         let (mut net, mut scale) = (0.0, 0.0);
         for i in 0..p.n_real() {
@@ -1998,7 +1999,7 @@ mod tests {
             scale += p.mass[i] * p.xsph_velocity[i][0].abs();
         }
         assert!(scale > 0.0 && net.abs() < 1e-13 * scale, "{net} of {scale}");
-        let pair = xsph_shells(&[1.0, -2.0]);
+        let pair = xsph_shells(&[1.0, -2.0], TimeSteps::Global);
         let p = &pair.particles;
         let kernel = pair.radial_kernel.as_ref().unwrap();
         let (r, h) = (
@@ -2011,13 +2012,39 @@ mod tests {
         assert!((got / want - 1.0).abs() < 1e-14, "{got} for {want}");
     }
 
+    /// With individual time steps each shell drifts on the velocity of its own half step plus
+    /// XSPH's correction: after the block starts (each shell kicked by half its own step Δt_i)
+    /// the first step to time Δt moves shell i to x⁰ + (v⁰ + a⁰ Δt_i/2 + δv⁰) Δt.
+    #[test]
+    fn xsph_shells_drift_on_their_own_half_steps() {
+        let mut rng = crate::random::SplitMix64::new(5);
+        let velocities: Vec<f64> = (0..30).map(|_| rng.uniform() - 0.5).collect();
+        let mut sim = xsph_shells(&velocities, TimeSteps::Individual { max_ratio: 64 });
+        let p = sim.particles.clone();
+        let blocks = sim.start_block(1.0, 64).unwrap();
+        let own: Vec<f64> = (0..p.n_real()).map(|i| blocks.step_of(i)).collect();
+        sim.blocks = Some(blocks);
+        sim.step_toward(1.0).unwrap();
+        let dt = sim.time;
+        // the shells' own steps differ (by powers of two), so the test tells them apart
+        assert!(own.iter().any(|&step| step != own[0]), "{own:?}");
+        assert!(dt > 0.0 && dt <= own.iter().copied().fold(f64::INFINITY, f64::min));
+        assert!(p.xsph_velocity.iter().any(|d| d[0].abs() > 1e-2));
+        for (i, step) in own.iter().enumerate() {
+            let drift = p.velocity[i][0] + 0.5 * p.acceleration[i][0] * step;
+            let want = p.position[i][0] + (drift + p.xsph_velocity[i][0]) * dt;
+            let got = sim.particles.position[i][0];
+            assert!((got - want).abs() < 1e-12, "shell {i}: {got} for {want}");
+        }
+    }
+
     /// A step drifts each shell with its half-step velocity plus XSPH's correction:
     /// x¹ = x⁰ + (v⁰ + a⁰ Δt/2 + δv⁰) Δt, to round-off of the displacement.
     #[test]
     fn xsph_shells_drift_with_the_corrected_velocity() {
         let mut rng = crate::random::SplitMix64::new(3);
         let velocities: Vec<f64> = (0..30).map(|_| rng.uniform() - 0.5).collect();
-        let mut sim = xsph_shells(&velocities);
+        let mut sim = xsph_shells(&velocities, TimeSteps::Global);
         let dt = 1e-4;
         let p = &sim.particles;
         let want: Vec<f64> = (0..p.n_real())
