@@ -85,7 +85,7 @@ impl PairGeometry {
     }
 }
 
-/// The hoop factor G_i of the real particles: the kink that the even axis images put into the
+/// The hoop factor G_i of the real particles `which` (in that order): the kink that the even axis images put into the
 /// planar pair sums' derivative of r, G_i = G_i^even/G_i^odd with
 /// G_i^even = Σ_j A_j (|r_j| − r_i) ∂W_ij/∂r_i (the images at their mirrored radius, as the
 /// ring flux sees them) and G_i^odd the same sum with the images' signed r_j < 0 (the linear
@@ -93,8 +93,9 @@ impl PairGeometry {
 pub fn radius_gradients<const D: usize>(
     particles: &Particles<D>,
     kernel_pairs: &KernelPairs,
+    which: &[usize],
 ) -> Vec<f64> {
-    pairs::gather(&RadiusGradient, particles, kernel_pairs)
+    pairs::gather_at(&RadiusGradient, particles, kernel_pairs, which)
 }
 
 /// The pass of [`radius_gradients`].
@@ -152,18 +153,23 @@ impl<const D: usize> PairEquation<D, KernelLink> for RadiusGradient {
     }
 }
 
-/// The hoop strain rates ε̇_θθ = G_i v_r/r of the real particles (G_i from [`radius_gradients`]).
+/// The hoop strain rates ε̇_θθ = G_i v_r/r of the real particles `which` (in that order; G_i
+/// from [`radius_gradients`] in the same order).
 pub fn hoop_strain_rates<const D: usize>(
     particles: &Particles<D>,
     radius_gradient: &[f64],
+    which: &[usize],
 ) -> Vec<f64> {
     let p = particles;
-    (0..p.n_real())
-        .map(|i| radius_gradient[i] * p.velocity[i][0] / p.position[i][0])
+    which
+        .iter()
+        .zip(radius_gradient)
+        .map(|(&i, g)| g * p.velocity[i][0] / p.position[i][0])
         .collect()
 }
 
-/// Completes the rates of the real particles after the planar pair loops have run in the ring
+/// Completes the rates of the real particles `which` (`radius_gradient` and `hoop_rate` in
+/// their order) after the planar pair loops have run in the ring
 /// fields: turns their Dη/Dt into Dρ/Dt = Dη/Dt/(2πr) − ρ ε̇_θθ, adds the hoop force
 /// −G σ_θθ/(ρr) to Dv_r/Dt and the hoop part of the pressure work, −p ε̇_θθ/ρ, to De/Dt (the
 /// stress pass adds s_θθ ε̇_θθ/ρ with the rest of s:ε̇), where σ_θθ = −p + s_θθ,
@@ -172,18 +178,19 @@ pub fn add_hoop_terms<const D: usize>(
     particles: &mut Particles<D>,
     radius_gradient: &[f64],
     hoop_rate: &[f64],
+    which: &[usize],
 ) {
     let p = particles;
-    for i in 0..p.n_real() {
+    for (k, &i) in which.iter().enumerate() {
         let r = p.position[i][0];
         let rho = p.density[i];
         if let Some(ring_rate) = p.density_rate.get_mut(i) {
-            *ring_rate = *ring_rate / (2.0 * PI * r) - rho * hoop_rate[i];
+            *ring_rate = *ring_rate / (2.0 * PI * r) - rho * hoop_rate[k];
         }
         let s_hoop = p.deviatoric_stress.get(i).map_or(0.0, |s| -s.trace());
         let sigma_hoop = -p.pressure[i] + s_hoop;
-        p.acceleration[i][0] -= radius_gradient[i] * sigma_hoop / (rho * r);
-        p.energy_rate[i] -= p.pressure[i] * hoop_rate[i] / rho;
+        p.acceleration[i][0] -= radius_gradient[k] * sigma_hoop / (rho * r);
+        p.energy_rate[i] -= p.pressure[i] * hoop_rate[k] / rho;
     }
 }
 
@@ -232,7 +239,7 @@ mod tests {
         let mut kernel_pairs = KernelPairs::default();
         let all: Vec<usize> = (0..p.n_real()).collect();
         kernel_pairs.rebuild(&p, &neighbours, &kernel, PairKernel::MeanH, &all);
-        let g = radius_gradients(&p, &kernel_pairs);
+        let g = radius_gradients(&p, &kernel_pairs, &all);
         assert!(g.iter().all(|&g| g == 1.0), "{g:?}");
     }
 }

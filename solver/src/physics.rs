@@ -1217,8 +1217,8 @@ impl<const D: usize> PairEquation<D, KernelLink> for StressForces<'_, D> {
 /// [`ArtificialStress`]). In an axisymmetric `geometry` the pairs see ring densities and
 /// fluxes, and `hoop_rate` (ε̇_θθ per real particle, [`crate::axisymmetric::hoop_strain_rates`])
 /// joins the heating, the equivalent strain rate and the stress rate. For the real particles
-/// `which` (`velocity_gradient` in that order); each one's wall force and artificial stress
-/// heating join its entry in `books`.
+/// `which` (`velocity_gradient` and `hoop_rate` in that order); each one's wall force and
+/// artificial stress heating join its entry in `books`.
 #[allow(clippy::too_many_arguments)]
 pub fn add_stress_rates<const D: usize>(
     particles: &mut Particles<D>,
@@ -1251,7 +1251,7 @@ pub fn add_stress_rates<const D: usize>(
         let strain_rate = 0.5 * (gradient + gradient.transpose());
         // out of the plane: ε̇_θθ = v_r/r (axisymmetric) or 0 (uniaxial, plane strain), where
         // s_θθ = −tr s
-        let hoop = hoop_rate.map_or(0.0, |rates| rates[i]);
+        let hoop = hoop_rate.map_or(0.0, |rates| rates[k]);
         p.energy_rate[i] += (s.component_mul(&strain_rate).sum() - s.trace() * hoop) / p.density[i];
         p.strain_rate[i] = crate::strength::equivalent_strain_rate(&strain_rate, hoop);
         let g = shear_modulus[p.material_of(i)];

@@ -151,11 +151,10 @@ impl SimulationConfig {
                     &format!("a power of two from 2 to {}", TimeSteps::MAX_RATIO),
                 ));
             }
-            // what each particle's own step is not yet built for: the axis's radius gradients
-            // and grad-h's h are solved for every particle at once, Balsara's factor and the
-            // bonds of total-Lagrangian solids are read from every partner
+            // what each particle's own step is not yet built for: grad-h's h is solved for
+            // every particle at once, Balsara's factor and the bonds of total-Lagrangian solids
+            // are read from every partner
             let unsupported = [
-                ("axisymmetric", self.formulation.is_axisymmetric()),
                 ("total-Lagrangian", self.formulation.is_total_lagrangian()),
                 ("grad-h", self.formulation.grad_h().is_some()),
                 ("balsara", self.viscosity.balsara),
@@ -164,7 +163,7 @@ impl SimulationConfig {
                 return Err(SolverError::invalid(
                     "time_steps",
                     "individual",
-                    &format!("global with {what}: individual steps are built for radial scenes and planar Cartesian ones without it"),
+                    &format!("global with {what}: individual steps are built for radial, axisymmetric and Cartesian scenes without it"),
                 ));
             }
         }
@@ -1514,8 +1513,8 @@ impl<const D: usize> Simulation<D> {
     /// (axisymmetric) → velocity gradients (solids, Balsara, the viscosity switch) → each
     /// particle's Balsara factor and α → the Euler pair terms → the stress pair terms (solids)
     /// → the hoop terms (axisymmetric). Each particle's share of the rate totals joins its
-    /// entry in `books`. Individual time steps pass some particles (never in an axisymmetric
-    /// scene or with Balsara's switch, see [`SimulationConfig::validate`]); a global step all.
+    /// entry in `books`. Individual time steps pass some particles (never with Balsara's
+    /// switch, see [`SimulationConfig::validate`]); a global step all.
     fn evaluate_pair_rates(
         &mut self,
         which: &[usize],
@@ -1534,11 +1533,12 @@ impl<const D: usize> Simulation<D> {
         };
         let solids = !p.deviatoric_stress.is_empty();
         let radius_gradient = (pair_geometry == PairGeometry::Axisymmetric)
-            .then(|| axisymmetric::radius_gradients(p, kernel_pairs));
+            .then(|| axisymmetric::radius_gradients(p, kernel_pairs, which));
         let hoop_rate = radius_gradient
             .as_ref()
-            .map(|g| axisymmetric::hoop_strain_rates(p, g));
-        let hoop_rate_of = |i: usize| hoop_rate.as_ref().map_or(0.0, |rates| rates[i]);
+            .map(|g| axisymmetric::hoop_strain_rates(p, g, which));
+        // the k-th of `which`'s hoop strain rate
+        let hoop_rate_of = |k: usize| hoop_rate.as_ref().map_or(0.0, |rates| rates[k]);
         let switch = self.config.viscosity.switch;
         let gradients = (solids || self.config.viscosity.balsara || switch.is_some())
             .then(|| physics::velocity_gradients(p, kernel_pairs, pair_geometry, which));
@@ -1547,10 +1547,11 @@ impl<const D: usize> Simulation<D> {
                 which
                     .iter()
                     .zip(gradients)
-                    .map(|(&i, gradient)| {
+                    .enumerate()
+                    .map(|(k, (&i, gradient))| {
                         physics::balsara_factor(
                             gradient,
-                            hoop_rate_of(i),
+                            hoop_rate_of(k),
                             p.sound_speed[i],
                             p.smoothing_length[i],
                         )
@@ -1563,7 +1564,8 @@ impl<const D: usize> Simulation<D> {
             let updates = which
                 .iter()
                 .zip(gradients)
-                .map(|(&i, gradient)| (i, dt(i), gradient.trace() + hoop_rate_of(i)));
+                .enumerate()
+                .map(|(k, (&i, gradient))| (i, dt(i), gradient.trace() + hoop_rate_of(k)));
             relax_viscosity(p, switch, self.config.viscosity.alpha, updates);
         }
         physics::compute_rates(
@@ -1592,7 +1594,7 @@ impl<const D: usize> Simulation<D> {
             );
         }
         if let (Some(g), Some(hoop_rate)) = (&radius_gradient, &hoop_rate) {
-            axisymmetric::add_hoop_terms(p, g, hoop_rate);
+            axisymmetric::add_hoop_terms(p, g, hoop_rate, which);
         }
     }
 

@@ -1,6 +1,7 @@
-//! Individual time steps in planar Cartesian scenes: a blast in 2D gas and a pulse from a stiff
-//! solid into a soft one, against global steps; conservation with what the transmitting sides
-//! take out booked; determinism; the setups not yet built refused by name.
+//! Individual time steps in planar scenes (Cartesian and axisymmetric): a blast in 2D gas and a
+//! pulse from a soft solid through a stiff one, against global steps; conservation with what
+//! the transmitting sides take out booked; walls; determinism; the setups not yet built refused
+//! by name.
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
@@ -121,6 +122,7 @@ fn elastic(name: &str, young: f64, poisson: f64, rho: f64) -> Material {
 /// Gaussian velocity pulse of 0.1 m/s in the soil left of the inclusion, running towards it
 /// and away from it.
 fn stiff_inclusion(n: usize, config: SimulationConfig, sides: Boundary) -> Simulation<2> {
+    let axisymmetric = config.formulation.is_axisymmetric();
     let dx = 1.0 / n as f64;
     let rho = [1800.0, 2400.0];
     let init: Vec<ParticleInit<2>> = (0..n * n)
@@ -132,7 +134,15 @@ fn stiff_inclusion(n: usize, config: SimulationConfig, sides: Boundary) -> Simul
             ParticleInit {
                 position,
                 velocity: Vector::<2>::new(if inside { 0.0 } else { pulse }, 0.0),
-                mass: rho[material] * dx * dx,
+                // a ring's mass in (r, z)
+                mass: rho[material]
+                    * dx
+                    * dx
+                    * if axisymmetric {
+                        2.0 * std::f64::consts::PI * position[0]
+                    } else {
+                        1.0
+                    },
                 smoothing_length: 1.2 * dx,
                 density: rho[material],
                 internal_energy: 0.0,
@@ -140,7 +150,11 @@ fn stiff_inclusion(n: usize, config: SimulationConfig, sides: Boundary) -> Simul
             }
         })
         .collect();
-    let domain = Domain::new(Vector::zeros(), Vector::repeat(1.0), [sides; 2]);
+    let mut domain = Domain::new(Vector::zeros(), Vector::repeat(1.0), [sides; 2]);
+    if axisymmetric {
+        // the axis is a mirror
+        domain.lower[0] = Boundary::Wall;
+    }
     let materials = vec![
         elastic("soil", 1e8, 0.25, rho[0]),
         elastic("concrete", 3e10, 0.2, rho[1]),
@@ -241,7 +255,7 @@ fn planar_individual_steps_are_deterministic_across_thread_counts() {
 }
 
 /// What individual steps are not built for in planar scenes is refused by name: periodic
-/// sides, the axisymmetric and total-Lagrangian formulations, grad-h and Balsara's switch.
+/// sides, the total-Lagrangian formulation, grad-h and Balsara's switch.
 #[test]
 fn planar_setups_individual_steps_do_not_support_are_refused_by_name() {
     let gas = || vec![Material::new("air", IdealGas::new(1.4).unwrap())];
@@ -261,9 +275,7 @@ fn planar_setups_individual_steps_do_not_support_are_refused_by_name() {
     );
     let err = Simulation::new(&init, gas(), domain, continuity(INDIVIDUAL)).unwrap_err();
     assert!(err.to_string().contains("domain sides"), "{err}");
-    let smoothing = SmoothingLength::FollowDensity { eta: 1.2 };
     let configs = [
-        ("axisymmetric", Formulation::Axisymmetric(smoothing), false),
         (
             "total-Lagrangian",
             Formulation::TotalLagrangian { hourglass: 0.0 },
@@ -291,4 +303,39 @@ fn planar_setups_individual_steps_do_not_support_are_refused_by_name() {
             "{what}: {err}"
         );
     }
+}
+
+/// The pulse through the stiff inclusion as rings about the axis r = 0 (axisymmetric, the
+/// axis a mirror, the other sides transmitting; 17 % of the energy leaves by 2.5 ms): energy
+/// with what left within 1e-4 of its start (measured 6.2e-6; global steps 4.7e-7), the energy
+/// that left within 1 % of the global run's (measured 8e-5), every velocity within 5 % of the
+/// global run's peak (measured 0.80 %), fewer than 40 % of its updates (measured 21 %).
+#[test]
+fn axisymmetric_individual_steps_carry_a_pulse_through_a_stiff_inclusion() {
+    let config = |time_steps| SimulationConfig {
+        formulation: Formulation::Axisymmetric(SmoothingLength::FollowDensity { eta: 1.2 }),
+        time_steps,
+        ..SimulationConfig::default()
+    };
+    let run = |time_steps| {
+        let mut sim = stiff_inclusion(40, config(time_steps), Boundary::Transmitting);
+        sim.run_until(2.5e-3, |_| {}).unwrap();
+        sim
+    };
+    let e0 = stiff_inclusion(40, config(INDIVIDUAL), Boundary::Transmitting)
+        .particles()
+        .total_energy();
+    let (global, individual) = (run(TimeSteps::Global), run(INDIVIDUAL));
+    let balance = energy_balance(&individual, e0);
+    assert!(balance < 1e-4, "energy {balance:e}");
+    let (left, left_global) = (individual.transmitted_energy(), global.transmitted_energy());
+    assert!(left_global > 0.1 * e0, "{left_global:e} of {e0:e}");
+    assert!(
+        (left / left_global - 1.0).abs() < 0.01,
+        "{left:e} vs {left_global:e}"
+    );
+    let (_, dv) = largest_differences(&global, &individual);
+    assert!(dv < 0.05, "velocity {dv:e} of the peak");
+    let ratio = individual.particle_updates() as f64 / global.particle_updates() as f64;
+    assert!(ratio < 0.4, "updates: {ratio} of the global run's");
 }

@@ -358,7 +358,7 @@ position = [{side_x}, {side_g}, {side_z}]
         charge = case.charge_kg,
         snapshot_interval = end_time / 20.0,
         ztop = 2.0 * rc,
-        // symmetry walls: individual steps are not built for them
+        // global steps until the 3D model's individual-step runs are compared with them
         ground = ground(soil, StepChoice::Global),
         lining = lining_material(tunnel),
         s1 = near_spacing(2.0),

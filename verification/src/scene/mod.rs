@@ -497,7 +497,11 @@ impl Scene {
             ));
         }
         let sides = sides(&cx, &file.domain.sides, geometry, &lo)?;
-        let time_steps = time_steps(&cx, file.numerics.as_ref(), geometry, &sides)?;
+        let time_steps = file
+            .numerics
+            .as_ref()
+            .and_then(|n| n.get_ref().time_steps)
+            .unwrap_or_default();
 
         let library = Library::standard();
         let mut materials: Vec<SceneMaterial> = Vec::new();
@@ -856,30 +860,6 @@ fn numerics(
             "",
         )?,
     ))
-}
-
-/// `numerics.time_steps`, where the solver builds individual steps: plane-strain and 3D
-/// scenes without periodic sides.
-fn time_steps(
-    cx: &Context,
-    numerics: Option<&Spanned<NumericsFile>>,
-    geometry: Geometry,
-    sides: &[(Boundary, Boundary)],
-) -> Result<StepChoice, VerifyError> {
-    let Some(n) = numerics else {
-        return Ok(StepChoice::Global);
-    };
-    let choice = n.get_ref().time_steps.unwrap_or_default();
-    let periodic = sides.iter().any(|&(lo, _)| lo == Boundary::Periodic);
-    if choice == StepChoice::Individual && (geometry == Geometry::Axisymmetric || periodic) {
-        return Err(cx.error(
-            n.span(),
-            "numerics.time_steps",
-            "\"individual\" in plane-strain and 3D scenes without periodic sides (\"global\" \
-             otherwise)",
-        ));
-    }
-    Ok(choice)
 }
 
 fn sides(

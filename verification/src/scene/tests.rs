@@ -346,23 +346,6 @@ fn bodies_in_contact_may_not_jump_in_spacing_by_more_than_two() {
     );
 }
 
-/// Individual time steps are refused by name, with the line of `[numerics]`, where the solver
-/// does not build them: here in an axisymmetric scene.
-#[test]
-fn individual_time_steps_are_refused_in_an_axisymmetric_scene() {
-    let text = "[scene]\nname = \"rz\"\ngeometry = \"axisymmetric\"\nend_time = 1e-4\n\n\
-                [numerics]\ntime_steps = \"individual\"\n\n\
-                [domain]\nmin = [0.0, -1.0]\nmax = [1.0, 0.0]\n\
-                sides = { x_min = \"wall\", x_max = \"open\", y_min = \"open\", y_max = \"open\" }\n\n\
-                [[material]]\nname = \"air\"\nlibrary = \"air\"\n\n\
-                [[body]]\nname = \"air\"\nmaterial = \"air\"\nspacing = 0.1\n\
-                shape = { kind = \"box\", min = [0.0, -1.0], max = [1.0, 0.0] }\n";
-    let (line, key, message) = error_of(text);
-    assert_eq!(key, "numerics.time_steps");
-    assert_eq!(line, 6);
-    assert!(message.contains("plane-strain and 3D"), "{message}");
-}
-
 /// The valid scene without its charge, with gravity.
 fn ground_at_rest() -> String {
     let charge = VALID
