@@ -1379,18 +1379,25 @@ impl<const D: usize> Simulation<D> {
             axisymmetric: self.config.formulation.is_axisymmetric(),
         };
         let p = &mut self.particles;
-        for (&i, book) in which.iter().zip(books) {
+        // the k-th of `which` within a kernel support of some transmitting side
+        let reaches_a_side = |k: &usize| {
+            let i = which[*k];
             let reach = self.kernel.support_radius(p.smoothing_length[i]);
-            let near: Vec<_> = sides
+            sides
                 .iter()
-                .filter(|&&(a, plane, outward)| outward * (plane - p.position[i][a]) < reach)
-                .collect();
-            if near.is_empty() {
-                continue;
-            }
-            let g = pairs::sum_reading(&equation, p, &self.neighbours, i);
+                .any(|&(a, plane, outward)| outward * (plane - p.position[i][a]) < reach)
+        };
+        let near: Vec<usize> = (0..which.len()).filter(reaches_a_side).collect();
+        let near_particles: Vec<usize> = near.iter().map(|&k| which[k]).collect();
+        let sums = pairs::gather_at(&equation, p, &self.neighbours, &near_particles);
+        for (&k, g) in near.iter().zip(sums) {
+            let i = which[k];
+            let reach = self.kernel.support_radius(p.smoothing_length[i]);
             let shear_speed = (shear_modulus[p.material_of(i)] / p.density[i]).sqrt();
-            for &&(a, _, outward) in &near {
+            for &(a, plane, outward) in &sides {
+                if outward * (plane - p.position[i][a]) >= reach {
+                    continue;
+                }
                 let weight = (-2.0 * outward * g[a]).max(0.0);
                 let v = p.velocity[i];
                 let mut acceleration = Vector::<D>::zeros();
@@ -1403,8 +1410,8 @@ impl<const D: usize> Simulation<D> {
                     acceleration[b] = -speed * v[b] * weight;
                 }
                 p.acceleration[i] += acceleration;
-                book.wall_force += acceleration * p.mass[i];
-                book.transmitted_power -= p.mass[i] * acceleration.dot(&v);
+                books[k].wall_force += acceleration * p.mass[i];
+                books[k].transmitted_power -= p.mass[i] * acceleration.dot(&v);
             }
         }
     }
