@@ -81,7 +81,8 @@ pub enum TimeSteps {
     /// 4 of its neighbours' (see [`crate::block_steps`]); the longest at most `max_ratio` (a
     /// power of two) times the shortest. Particles between the ends of their steps are drifted
     /// and their state predicted, so that their neighbours see them at the current time.
-    /// Radial scenes only.
+    /// Radial, Cartesian and axisymmetric scenes, without grad-h, Balsara's switch,
+    /// total-Lagrangian solids or periodic sides (see [`SimulationConfig::validate`]).
     Individual { max_ratio: u64 },
 }
 
