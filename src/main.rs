@@ -660,6 +660,12 @@ fn run_scene(
         summary.wall_s,
         out.display()
     );
+    if summary.departed.particles > 0 {
+        println!(
+            "  {} particles ({:.4e} kg) left through outflow sides",
+            summary.departed.particles, summary.departed.mass
+        );
+    }
     if let Some(balance) = &summary.gravity_balance {
         println!(
             "  geostatic state held by external accelerations within {:.2} % (mean) of g inside the bodies",

@@ -135,6 +135,13 @@ impl BlockSteps {
         Some(())
     }
 
+    /// Keeps the steps of the particles `kept` (ascending), in that order: the others have
+    /// left the simulation.
+    pub fn keep_only(&mut self, kept: &[usize]) {
+        self.step = kept.iter().map(|&i| self.step[i]).collect();
+        self.started = kept.iter().map(|&i| self.started[i]).collect();
+    }
+
     /// Ends particle i's step at the current tick (it was woken by a neighbour's short step).
     /// Returns the step's old and new lengths (s).
     pub fn end_early(&mut self, i: usize) -> (f64, f64) {

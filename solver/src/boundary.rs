@@ -22,6 +22,12 @@ pub enum Boundary {
     /// traction (see `Simulation`'s step), so that the two cancel for an outgoing wave. The
     /// work it takes out is booked as the energy transmitted, its impulse with the walls'.
     Transmitting,
+    /// A side through which matter leaves: no images, and a real particle found beyond it
+    /// between two steps leaves the simulation, its momentum and energy booked as carried out
+    /// (with the walls' impulse and the transmitted energy). For matter streaming away from
+    /// what a scene studies, such as the products of a surface burst expanding into vacuum,
+    /// which would otherwise be followed without end and stretch the neighbour grid with it.
+    Outflow,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -212,6 +218,22 @@ impl<const D: usize> Domain<D> {
             }
         }
         sides
+    }
+
+    /// Whether `x` lies beyond an outflow side.
+    pub fn beyond_outflow(&self, x: &Vector<D>) -> bool {
+        (0..D).any(|a| {
+            (self.lower[a] == Boundary::Outflow && x[a] < self.lo[a])
+                || (self.upper[a] == Boundary::Outflow && x[a] > self.hi[a])
+        })
+    }
+
+    /// Whether some side is an outflow side.
+    pub fn has_outflow(&self) -> bool {
+        self.lower
+            .iter()
+            .chain(&self.upper)
+            .any(|&b| b == Boundary::Outflow)
     }
 
     /// The axis of a wall that `x` has passed through, if any.

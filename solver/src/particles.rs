@@ -425,6 +425,19 @@ impl<const D: usize> Particles<D> {
         self.visit_all(&mut Reorder(order));
     }
 
+    /// Keeps the real particles `kept` (ascending indices), in that order, and drops the rest.
+    pub fn keep_only(&mut self, kept: &[usize]) {
+        assert!(
+            self.images.is_empty(),
+            "clear images before dropping particles"
+        );
+        debug_assert!(
+            kept.windows(2).all(|w| w[0] < w[1]) && kept.iter().all(|&i| i < self.n_real)
+        );
+        self.visit_all(&mut Reorder(kept));
+        self.n_real = kept.len();
+    }
+
     /// Total mass of the real particles.
     pub fn total_mass(&self) -> f64 {
         self.mass[..self.n_real].iter().sum()

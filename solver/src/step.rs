@@ -231,6 +231,23 @@ struct HalfStep<const D: usize> {
     plastic_work: Vec<f64>,
 }
 
+impl<const D: usize> HalfStep<D> {
+    /// Keeps the values of the real particles `kept` (ascending), in that order.
+    fn keep_only(&mut self, kept: &[usize]) {
+        fn keep<T: Copy>(values: &mut Vec<T>, kept: &[usize]) {
+            if !values.is_empty() {
+                *values = kept.iter().map(|&i| values[i]).collect();
+            }
+        }
+        keep(&mut self.velocity, kept);
+        keep(&mut self.internal_energy, kept);
+        keep(&mut self.density, kept);
+        keep(&mut self.deviatoric_stress, kept);
+        keep(&mut self.plastic_strain, kept);
+        keep(&mut self.plastic_work, kept);
+    }
+}
+
 #[derive(Debug)]
 pub struct Simulation<const D: usize> {
     particles: Particles<D>,
@@ -254,9 +271,11 @@ pub struct Simulation<const D: usize> {
     books: Vec<RateTotals<D>>,
     wall_impulse: Vector<D>,
     heating: ArtificialHeating,
-    /// The energy that left through transmitting boundaries, or as work done against the
-    /// external accelerations, since the start (J).
+    /// The energy that left through transmitting boundaries, carried out through outflow
+    /// sides, or as work done against the external accelerations, since the start (J).
     transmitted_energy: f64,
+    /// What has left through outflow sides.
+    departed: Departed,
     times: PhaseTimes,
     /// Grad-h solves repeated because a root lay beyond the reach the lists were checked for.
     repeated_searches: u64,
@@ -292,6 +311,7 @@ pub struct Checkpoint<const D: usize> {
     wall_impulse: Vector<D>,
     heating: ArtificialHeating,
     transmitted_energy: f64,
+    departed: Departed,
     repeated_searches: u64,
     neighbour_searches: u64,
     burn: Option<ProgrammedBurn>,
@@ -306,6 +326,13 @@ impl<const D: usize> Checkpoint<D> {
     pub fn time(&self) -> f64 {
         self.time
     }
+}
+
+/// The particles that have left through outflow sides: how many and their mass (kg).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Departed {
+    pub particles: usize,
+    pub mass: f64,
 }
 
 /// Where the real particles were when the kept neighbour lists were searched, and the h each
@@ -515,6 +542,14 @@ impl<const D: usize> Simulation<D> {
             ));
         }
         let total_lagrangian = formulation.is_total_lagrangian();
+        if total_lagrangian && domain.has_outflow() {
+            return Err(SolverError::invalid(
+                "boundary",
+                "outflow",
+                "in updated-Lagrangian scenes (a total-Lagrangian scene's bonds hold particle \
+                 indices, which a departure would shift)",
+            ));
+        }
         if total_lagrangian {
             if let Some(fluid) = materials.iter().find(|m| m.strength.is_none()) {
                 return Err(SolverError::invalid(
@@ -567,6 +602,7 @@ impl<const D: usize> Simulation<D> {
             books: Vec::new(),
             wall_impulse: Vector::zeros(),
             transmitted_energy: 0.0,
+            departed: Departed::default(),
             heating: ArtificialHeating::default(),
             times: PhaseTimes::default(),
             repeated_searches: 0,
@@ -684,15 +720,22 @@ impl<const D: usize> Simulation<D> {
     pub fn artificial_heating(&self) -> ArtificialHeating {
         self.heating
     }
-    /// ∫ F_wall dt: the momentum the walls have delivered so far.
+    /// ∫ F_wall dt: the momentum the walls have delivered so far, less what particles carried
+    /// out through outflow sides.
     pub fn wall_impulse(&self) -> Vector<D> {
         self.wall_impulse
     }
 
-    /// The energy that has left through transmitting boundaries, or as work done against the
-    /// external accelerations (J; negative where they did work on the particles).
+    /// The energy that has left through transmitting boundaries, carried out through outflow
+    /// sides, or as work done against the external accelerations (J; negative where they did
+    /// work on the particles).
     pub fn transmitted_energy(&self) -> f64 {
         self.transmitted_energy
+    }
+
+    /// What has left through outflow sides.
+    pub fn departed(&self) -> Departed {
+        self.departed
     }
 
     /// Everything a run carries from one step to the next: the particles (images included),
@@ -713,6 +756,7 @@ impl<const D: usize> Simulation<D> {
             wall_impulse: self.wall_impulse,
             heating: self.heating,
             transmitted_energy: self.transmitted_energy,
+            departed: self.departed,
             repeated_searches: self.repeated_searches,
             neighbour_searches: self.neighbour_searches,
             burn: self.burn.clone(),
@@ -733,11 +777,17 @@ impl<const D: usize> Simulation<D> {
                 "a checkpoint of a simulation with the same materials, domain and configuration",
             ));
         }
-        if checkpoint.particles.n_real() != self.particles.n_real() {
+        let created = |p: &Particles<D>, departed: Departed| p.n_real() + departed.particles;
+        if created(&checkpoint.particles, checkpoint.departed)
+            != created(&self.particles, self.departed)
+        {
             return Err(SolverError::invalid(
                 "checkpoint particles",
-                checkpoint.particles.n_real(),
-                &format!("the simulation's {}", self.particles.n_real()),
+                created(&checkpoint.particles, checkpoint.departed),
+                &format!(
+                    "the simulation's {}",
+                    created(&self.particles, self.departed)
+                ),
             ));
         }
         let Checkpoint {
@@ -753,6 +803,7 @@ impl<const D: usize> Simulation<D> {
             wall_impulse,
             heating,
             transmitted_energy,
+            departed,
             repeated_searches,
             neighbour_searches,
             burn,
@@ -772,6 +823,7 @@ impl<const D: usize> Simulation<D> {
         self.wall_impulse = wall_impulse;
         self.heating = heating;
         self.transmitted_energy = transmitted_energy;
+        self.departed = departed;
         self.repeated_searches = repeated_searches;
         self.neighbour_searches = neighbour_searches;
         self.burn = burn;
@@ -841,6 +893,7 @@ impl<const D: usize> Simulation<D> {
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
         self.kick(&all, |_| 0.5 * dt);
         self.drift_and_predict(dt, &all);
+        let all = self.let_out_departing(&all, None);
         self.times.integration += start.elapsed().as_secs_f64();
         let before = self.totals;
         self.evaluate_rates(self.time + dt)?;
@@ -887,6 +940,7 @@ impl<const D: usize> Simulation<D> {
         // the limiter reads the partners the kernel reaches at the drifted positions
         self.keep_or_search_lists();
         let active = self.ending_and_woken(&mut blocks);
+        let active = self.let_out_departing(&active, Some(&mut blocks));
         // every particle's state at this time: a gauge may read any of them
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
         self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
@@ -1069,6 +1123,60 @@ impl<const D: usize> Simulation<D> {
         self.heating.artificial_stress += totals.artificial_stress_heating * dt;
         self.heating.hourglass += totals.hourglass_heating * dt;
         self.transmitted_energy += totals.transmitted_power * dt;
+    }
+
+    /// Takes out the particles among `ending` (real particles whose steps end now, drifted to
+    /// its end, their rates not yet evaluated) that lie beyond an outflow side, and returns the
+    /// rest of `ending` in the new numbering (and `blocks`' steps renumbered with them). What a departing particle carries is booked at
+    /// its half step, the state its opening kick left it in: its momentum m v^{n+½} as impulse
+    /// given to the outside and its energy m (v²/2 + e)^{n+½} as energy that left. Its
+    /// neighbours' opening kicks felt its force as it felt theirs, and their closing kicks,
+    /// at rates evaluated without it, do not: so the momentum that stays plus what left is
+    /// conserved as the pair forces conserve it.
+    fn let_out_departing(
+        &mut self,
+        ending: &[usize],
+        blocks: Option<&mut BlockSteps>,
+    ) -> Vec<usize> {
+        if !self.domain.has_outflow() {
+            return ending.to_vec();
+        }
+        let (p, half) = (&self.particles, &self.half);
+        let departing: Vec<usize> = ending
+            .iter()
+            .copied()
+            .filter(|&i| self.domain.beyond_outflow(&p.position[i]))
+            .collect();
+        if departing.is_empty() {
+            return ending.to_vec();
+        }
+        for &i in &departing {
+            let (m, v) = (p.mass[i], half.velocity[i]);
+            self.wall_impulse -= v * m;
+            self.transmitted_energy += m * (0.5 * v.norm_squared() + half.internal_energy[i]);
+            self.departed.particles += 1;
+            self.departed.mass += m;
+        }
+        let mut leaves = vec![false; p.n_real()];
+        for &i in &departing {
+            leaves[i] = true;
+        }
+        let kept: Vec<usize> = (0..p.n_real()).filter(|&i| !leaves[i]).collect();
+        let mut new_index = vec![None; p.n_real()];
+        for (k, &i) in kept.iter().enumerate() {
+            new_index[i] = Some(k);
+        }
+        self.particles.clear_images();
+        self.particles.keep_only(&kept);
+        self.half.keep_only(&kept);
+        if !self.books.is_empty() {
+            self.books = kept.iter().map(|&i| self.books[i]).collect();
+        }
+        if let Some(blocks) = blocks {
+            blocks.keep_only(&kept);
+        }
+        self.list_origin = ListOrigin::default();
+        ending.iter().filter_map(|&i| new_index[i]).collect()
     }
 
     /// The stable global time step, or a diagnosis if it has collapsed.

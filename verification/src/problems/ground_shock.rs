@@ -357,7 +357,7 @@ fn run_one(
         .map(|&r| MaterialGauge::at(&init, r))
         .collect();
     let read = |sim: &Simulation<1>, traces: &mut [GaugeTrace]| {
-        let index = current_index(sim);
+        let index = shell_index(sim);
         for (trace, gauge) in traces.iter_mut().zip(&attached) {
             let (stress, velocity) = gauge.read(sim, &index);
             trace.push(sim.time(), stress, velocity);
@@ -496,12 +496,21 @@ impl MaterialGauge {
     }
 }
 
+/// Where each shell, by its id, is stored now (a radial run has no outflow side: every shell
+/// stays).
+fn shell_index(sim: &Simulation<1>) -> Vec<usize> {
+    current_index(sim)
+        .into_iter()
+        .map(|i| i.expect("a radial run keeps every shell"))
+        .collect()
+}
+
 /// How many shells of `material` lie inside the shell created next inside them: in a 1D
 /// Lagrangian flow mass shells keep their order, so every crossing is a breakdown of the
 /// discretisation.
 fn crossed_shells(sim: &Simulation<1>, material: usize) -> usize {
     let p = sim.particles();
-    let index = current_index(sim);
+    let index = shell_index(sim);
     index
         .windows(2)
         .filter(|pair| {

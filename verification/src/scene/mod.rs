@@ -79,6 +79,8 @@ enum Side {
     Wall,
     /// Waves leave through it (Lysmer–Kuhlemeyer's viscous traction).
     Transmitting,
+    /// Matter leaves through it: a particle beyond it leaves the run, what it carries booked.
+    Outflow,
 }
 
 impl From<Side> for Boundary {
@@ -87,6 +89,7 @@ impl From<Side> for Boundary {
             Side::Open => Boundary::Open,
             Side::Wall => Boundary::Wall,
             Side::Transmitting => Boundary::Transmitting,
+            Side::Outflow => Boundary::Outflow,
         }
     }
 }

@@ -19,12 +19,12 @@ use crate::vtk::{status_code, Snapshot};
 use crate::VerifyError;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
-use blastsph_solver::Checkpoint;
 use blastsph_solver::{
     Boundary, Density, Domain, EnergyEquation, Formulation, InitialState, KernelShape, Material,
     PrescribedMotion, ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Tensor,
     Vector,
 };
+use blastsph_solver::{Checkpoint, Departed};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
@@ -49,8 +49,8 @@ pub struct RunSummary {
     pub wall_s: f64,
     /// Why the run stopped early (a blow-up's diagnosis), or `None`.
     pub stopped: Option<String>,
-    /// The change of the total energy over the run, with the energy that left through
-    /// transmitting sides or as work against external forces counted (J), and its size over
+    /// The change of the total energy over the run, with the energy that left (see
+    /// `energy_exchanged_j`) counted (J), and its size over
     /// the energy at the start (none where that is zero: ground at rest without a charge).
     pub energy_change_j: f64,
     pub energy_relative_change: Option<f64>,
@@ -59,9 +59,12 @@ pub struct RunSummary {
     pub gravity_balance: Option<GravityBalance>,
     /// The largest displacement of any particle at the end (m).
     pub max_displacement_m: f64,
-    /// The energy that left through transmitting sides or as work against external forces
-    /// (J; negative where external forces did work on the particles).
+    /// The energy that left through transmitting sides, carried out through outflow sides or
+    /// as work against external forces (J; negative where external forces did work on the
+    /// particles).
     pub energy_exchanged_j: f64,
+    /// The particles that left through outflow sides, and their mass.
+    pub departed: Departed,
     /// Per body with strength: particles that yielded (plastic strain above zero at the end)
     /// and that failed (reached the tensile cutoff at some step).
     pub yielded: BTreeMap<String, usize>,
@@ -618,29 +621,35 @@ struct GaugeHistory {
     rows: Vec<Vec<f64>>,
 }
 
-/// Where each real particle, by its id (its index at creation), is stored now.
-pub fn current_index<const D: usize>(sim: &Simulation<D>) -> Vec<usize> {
+/// Where each particle, by its id (its index at creation), is stored now: `None` once it has
+/// left through an outflow side.
+pub fn current_index<const D: usize>(sim: &Simulation<D>) -> Vec<Option<usize>> {
     let p = sim.particles();
-    let mut index = vec![0; p.n_real()];
+    let mut index = vec![None; p.n_real() + sim.departed().particles];
     for i in 0..p.n_real() {
-        index[p.id[i] as usize] = i;
+        index[p.id[i] as usize] = Some(i);
     }
     index
 }
 
-/// The particle whose id is `id`, looked up again only when reordering moved it.
-fn index_of<const D: usize>(sim: &Simulation<D>, id: u32, hint: &mut usize) -> usize {
+/// The particle whose id is `id`, looked up again only when reordering moved it; `None` once
+/// it has left through an outflow side.
+fn index_of<const D: usize>(sim: &Simulation<D>, id: u32, hint: &mut usize) -> Option<usize> {
     let ids = &sim.particles().id;
     if ids.get(*hint) != Some(&id) {
-        *hint = ids
-            .iter()
-            .position(|&k| k == id)
-            .expect("real particles keep their ids");
+        *hint = ids.iter().position(|&k| k == id)?;
     }
-    *hint
+    Some(*hint)
 }
 
-fn gauge_row<const D: usize>(sim: &Simulation<D>, i: usize, start: &[f64]) -> Vec<f64> {
+/// A gauge's row: the time, then its particle's readings (NaN once the particle has left
+/// through an outflow side).
+fn gauge_row<const D: usize>(sim: &Simulation<D>, i: Option<usize>, start: &[f64]) -> Vec<f64> {
+    let Some(i) = i else {
+        let mut row = vec![f64::NAN; gauge_columns(D).len()];
+        row[0] = sim.time();
+        return row;
+    };
     let p = sim.particles();
     let mut row = vec![sim.time(), p.pressure[i]];
     row.extend(p.velocity[i].iter());
@@ -974,6 +983,7 @@ pub fn run_with<const D: usize, O: Observer<D>>(
             })
             .collect(),
         energy_exchanged_j: sim.transmitted_energy(),
+        departed: sim.departed(),
         yielded: count_by_body(&|i| {
             let p = sim.particles();
             !p.plastic_strain.is_empty() && p.plastic_strain[i] > 0.0
