@@ -278,6 +278,33 @@ fn the_valid_scene_runs_and_its_gauge_reads_the_lining() {
     assert!(summary.steps > 0);
 }
 
+/// With the top an outflow side just above the charge, the products leave the run: the summary
+/// counts them and the energy that left, and a gauge on a particle that left reads NaN from
+/// then on (its earlier rows stay).
+#[test]
+fn products_leave_through_an_outflow_top_and_their_gauge_stops_reading() {
+    let text = VALID
+        .replace("y_max = \"open\"", "y_max = \"outflow\"")
+        .replace("max = [4.0, 1.0]", "max = [4.0, 0.4]")
+        .replace("position = [0.0, -1.3]", "position = [0.0, 0.3]")
+        .replace("end_time = 1e-4", "end_time = 4e-4");
+    let scene = Scene::parse(&text).expect("the scene is valid");
+    let out = std::env::temp_dir().join(format!("blastsph-outflow-{}", std::process::id()));
+    let summary = run(&scene, &out, &mut |_| {}).expect("the scene runs");
+    let table = std::fs::read_to_string(out.join("gauges").join("crown.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    assert!(summary.stopped.is_none(), "{:?}", summary.stopped);
+    assert_eq!(summary.gauges[0].body, "charge");
+    assert!(summary.departed.particles > 0 && summary.departed.mass > 0.0);
+    assert!(summary.energy_exchanged_j > 0.0);
+    let rows: Vec<&str> = table.lines().skip(1).collect();
+    let gone = rows
+        .iter()
+        .position(|row| row.contains("NaN"))
+        .expect("the gauge's particle left");
+    assert!(gone > 0 && rows[gone..].iter().all(|row| row.contains("NaN")));
+}
+
 /// Small edits of a valid scene: a number replaced, a line dropped or doubled, the file cut.
 fn mutated(seed: (usize, usize, u8)) -> String {
     let (at, pick, kind) = seed;
