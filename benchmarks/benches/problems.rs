@@ -2,10 +2,15 @@
 //! against the speed target it has (the run's wall time at the stated accuracy, 2 threads on
 //! the 2-core reference machine). Each problem runs as `blastsph verify` runs it, with the
 //! overrides shown; its headline run's wall time (the least of the repeats) and errors are
-//! printed beside the target, with "met" or "short". Minutes in all; FILTER runs only the
-//! problems whose name contains it.
+//! printed beside the target, with "met" or "short". Then the tunnel study on its defaults
+//! (target ten minutes) and one of its cases alone, and the full-size biaxial test. About twenty
+//! minutes in all; FILTER runs only the problems whose name contains it.
 
+use blastsph_verification::problems::ground_shock::soil_model;
 use blastsph_verification::problems::{self, biaxial_run};
+use blastsph_verification::scene::Checkpoints;
+use blastsph_verification::surface_burst::Soil;
+use blastsph_verification::tunnel::{self, Outcome, StudyRequest, Tunnel, QUICK};
 use blastsph_verification::Level;
 use std::time::Instant;
 
@@ -110,6 +115,9 @@ fn main() {
             if met { "met" } else { "short" }
         );
     }
+    if wanted("tunnel") {
+        time_tunnel();
+    }
     // One full-size biaxial test as the `biaxial` problem runs it: 1700 grains at 10 %
     // saturation and σ3 = 1 kPa, prepared, wetted, wrapped, consolidated and loaded to 10 %
     // axial strain at the problem's quasi-static platen speed; target under two minutes.
@@ -127,4 +135,71 @@ fn main() {
             if wall <= 120.0 { "met" } else { "short" }
         );
     }
+}
+
+/// The tunnel study as `blastsph tunnel` runs it by default (nine cases, the three charges'
+/// gates included; target ten minutes), then one quick case, 10 m under 500 kg, alone: its
+/// free field and its section with and without the tunnel.
+fn time_tunnel() {
+    let out = std::env::temp_dir().join(format!("blastsph-bench-tunnel-{}", std::process::id()));
+    let soil_name = "dry-sand-backfill";
+    let request = StudyRequest {
+        depths_m: vec![10.0, 15.0, 20.0],
+        charges_kg: vec![500.0, 1000.0, 5000.0],
+        soil: soil_name.into(),
+        tunnel: Tunnel::default(),
+        level: Level::Quick,
+    };
+    let start = Instant::now();
+    let outcome = tunnel::run_study(
+        &request,
+        false,
+        &out.join("study"),
+        &|_, _| {},
+        &Checkpoints::default(),
+    )
+    .expect("the study runs");
+    let wall = start.elapsed().as_secs_f64();
+    let passed = match outcome {
+        Outcome::Done(study) => study.validated && study.checks.iter().all(|c| c.pass),
+        Outcome::GateFailed(_) => false,
+    };
+    println!(
+        "{:<26} {:>9} {:>7} {:>9.3} {:>8}  checks {} → {}",
+        "tunnel study (9 cases)",
+        "",
+        "",
+        wall,
+        "≤ 600",
+        if passed { "pass" } else { "FAIL" },
+        if passed && wall <= 600.0 {
+            "met"
+        } else {
+            "short"
+        }
+    );
+    let soil = Soil {
+        library: soil_model(soil_name).expect("a modelled soil").to_string(),
+        ..Soil::default()
+    };
+    let start = Instant::now();
+    tunnel::run_charge(
+        500.0,
+        &[10.0],
+        &soil,
+        Tunnel::default(),
+        QUICK,
+        &out.join("case"),
+        &|_, _| {},
+        &Checkpoints::default(),
+    )
+    .expect("the case runs");
+    println!(
+        "{:<26} {:>9} {:>7} {:>9.3}",
+        "tunnel 10 m / 500 kg",
+        "",
+        "",
+        start.elapsed().as_secs_f64()
+    );
+    let _ = std::fs::remove_dir_all(&out);
 }
