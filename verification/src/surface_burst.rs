@@ -10,8 +10,8 @@
 //! above the ground: the products expand into vacuum, and once higher than twice the charge's
 //! radius they leave the run through the top, an outflow side, what they carry booked as
 //! having left (followed instead, they fly on at 3.4 km/s and stretch the neighbour grid
-//! over hundreds of metres; with the top twice as high the soil's gauges read the same to
-//! 1e-5).
+//! over hundreds of metres; with the top twice as high a soil gauge 10 m down reads the same
+//! peaks to five digits).
 //!
 //! Each particle takes its own time step (power-of-two blocks): the products' and the near
 //! soil's steps are far shorter than those of the coarse far soil, which waits at rest for
