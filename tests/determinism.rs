@@ -74,6 +74,23 @@ fn sedov_2d_and_3d_with_grad_h_are_thread_count_independent() {
     }
 }
 
+/// Grad-h with individual time steps: each active particle's h solved among partners at
+/// different points of their steps, the limiter and the wake-ups.
+#[test]
+fn sedov_2d_and_3d_with_grad_h_and_individual_steps_are_thread_count_independent() {
+    for (problem, n, t_end) in [("sedov-2d", "24", "0.02"), ("sedov-3d", "10", "0.01")] {
+        assert_thread_count_independent(
+            problem,
+            &[
+                ("n", n),
+                ("t_end", t_end),
+                ("smoothing", "grad-h"),
+                ("step_ratio", "64"),
+            ],
+        );
+    }
+}
+
 /// Radial (spherical shells) geometry.
 #[test]
 fn radial_blast_is_thread_count_independent() {

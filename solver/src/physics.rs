@@ -434,20 +434,21 @@ const MAX_SMOOTHING_ITERATIONS: usize = 60;
 /// the root and positive above it) with bisection where a Newton step would leave it. Stops when a step changes h
 /// by less than `tolerance`·h, from `initial_guess`. Neighbours must include every particle
 /// within κ·`reach[i]` of i; a root beyond that reach is reported, not guessed.
-/// Ω_i = 1 + h_i/(D ρ_i) Σ_j m_j ∂W_ij/∂h_i.
+/// Ω_i = 1 + h_i/(D ρ_i) Σ_j m_j ∂W_ij/∂h_i. Solves the real particles `which` (the
+/// solutions in its order); the guesses and reaches are indexed by particle.
 pub fn solve_smoothing_lengths<const D: usize>(
     particles: &Particles<D>,
     neighbours: &NeighbourList,
     kernel: &Kernel<D>,
     (eta, tolerance): (f64, f64),
-    initial_guess: &[f64],
-    reach: &[f64],
+    (initial_guess, reach): (&[f64], &[f64]),
+    which: &[usize],
 ) -> Vec<SmoothingSolution> {
     let p = particles;
     let sources = pairs::sources(&DensityAtH { kernel, h: 0.0 }, p);
-    (0..p.n_real())
-        .into_par_iter()
-        .map_init(Vec::new, |within, i| {
+    which
+        .par_iter()
+        .map_init(Vec::new, |within, &i| {
             let reach = reach[i];
             let guess = initial_guess[i].min(reach);
             // every trial h stays within the reach, where the kernel of a farther partner is 0

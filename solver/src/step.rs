@@ -152,12 +152,10 @@ impl SimulationConfig {
                     &format!("a power of two from 2 to {}", TimeSteps::MAX_RATIO),
                 ));
             }
-            // what each particle's own step is not yet built for: grad-h's h is solved for
-            // every particle at once, Balsara's factor and the bonds of total-Lagrangian solids
-            // are read from every partner
+            // what each particle's own step is not yet built for: Balsara's factor and the
+            // bonds of total-Lagrangian solids are read from every partner
             let unsupported = [
                 ("total-Lagrangian", self.formulation.is_total_lagrangian()),
-                ("grad-h", self.formulation.grad_h().is_some()),
                 ("balsara", self.viscosity.balsara),
             ];
             if let Some((what, _)) = unsupported.iter().find(|(_, on)| *on) {
@@ -944,9 +942,12 @@ impl<const D: usize> Simulation<D> {
         // every particle's state at this time: a gauge may read any of them
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
         self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
-        self.follow_density_with_h(&all);
-        self.keep_or_search_lists();
+        let found = self.find_smoothing_lengths_and_neighbours(&all, &active);
         self.times.neighbours += start.elapsed().as_secs_f64();
+        if let Err(error) = found {
+            self.blocks = Some(blocks);
+            return Err(error);
+        }
         let start = Instant::now();
         self.evaluate_density(&all);
         self.evaluate_state(self.time, &all);
@@ -1057,6 +1058,7 @@ impl<const D: usize> Simulation<D> {
             &mut half.velocity[..n],
             &p.mass[..n],
         );
+        predict_smoothing_lengths(p, dt);
     }
 
     /// The real particles whose steps end now, and those woken by a neighbour's step more than
@@ -1352,10 +1354,7 @@ impl<const D: usize> Simulation<D> {
         self.wall_impulse +=
             self.domain
                 .reflect_at_walls(&mut p.position[..n], &mut p.velocity[..n], &p.mass[..n]);
-        // the grad-h iteration starts from h + Dh/Dt·Δt (kept within a factor of two)
-        for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
-            *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);
-        }
+        predict_smoothing_lengths(p, dt);
         // total-Lagrangian bonds carry the periodic shift; a wrapped particle would break them
         if self.reference.is_none() {
             self.domain.wrap_periodic(p);
@@ -1398,7 +1397,7 @@ impl<const D: usize> Simulation<D> {
         }
         let start = Instant::now();
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
-        self.find_smoothing_lengths_and_neighbours(&all)?;
+        self.find_smoothing_lengths_and_neighbours(&all, &all)?;
         self.times.neighbours += start.elapsed().as_secs_f64();
         let start = Instant::now();
         self.evaluate_density(&all);
@@ -1525,11 +1524,24 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// Each particle's h for this state (fixed, from its density, or solved with it), then the
-    /// images and neighbour lists for those h.
-    fn find_smoothing_lengths_and_neighbours(&mut self, all: &[usize]) -> Result<(), SolverError> {
-        if let Some((eta, tolerance)) = self.config.formulation.grad_h() {
-            return self.solve_grad_h(eta, tolerance);
+    /// Each real particle's h for this state (fixed, from its density, or solved with it),
+    /// then the images and neighbour lists for those h. Grad-h solves the particles `solved`;
+    /// any other keeps its predicted h and takes the density grad-h ties to it,
+    /// ρ = m (η/h)^D, and its last Ω.
+    fn find_smoothing_lengths_and_neighbours(
+        &mut self,
+        all: &[usize],
+        solved: &[usize],
+    ) -> Result<(), SolverError> {
+        if let Some(grad_h) = self.config.formulation.grad_h() {
+            if solved.len() < all.len() {
+                let p = &mut self.particles;
+                let eta = grad_h.0;
+                for &i in all {
+                    p.density[i] = p.mass[i] * (eta / p.smoothing_length[i]).powi(D as i32);
+                }
+            }
+            return self.solve_grad_h(grad_h, solved);
         }
         self.follow_density_with_h(all);
         self.keep_or_search_lists();
@@ -1765,10 +1777,14 @@ impl<const D: usize> Simulation<D> {
         self.neighbour_searches += 1;
     }
 
-    /// Grad-h: solves h and ρ together, each h within a reach GRAD_H_SKIN beyond its
-    /// predicted h, with lists that hold every pair at those reaches; a root beyond its reach
-    /// widens the reach and solves again.
-    fn solve_grad_h(&mut self, eta: f64, tolerance: f64) -> Result<(), SolverError> {
+    /// Grad-h: solves h and ρ together for the real particles `which`, each h within a reach
+    /// GRAD_H_SKIN beyond its predicted h, with lists that hold every pair at those reaches; a
+    /// root beyond its reach widens the reach and solves again.
+    fn solve_grad_h(
+        &mut self,
+        (eta, tolerance): (f64, f64),
+        which: &[usize],
+    ) -> Result<(), SolverError> {
         let n = self.particles.n_real();
         let guess = self.particles.smoothing_length[..n].to_vec();
         let mut reach: Vec<f64> = guess.iter().map(|h| h * (1.0 + GRAD_H_SKIN)).collect();
@@ -1779,11 +1795,11 @@ impl<const D: usize> Simulation<D> {
                 &self.neighbours,
                 &self.kernel,
                 (eta, tolerance),
-                &guess,
-                &reach,
+                (&guess, &reach),
+                which,
             );
             let mut short = false;
-            for (i, solution) in solutions.iter().enumerate() {
+            for (&i, solution) in which.iter().zip(&solutions) {
                 match *solution {
                     SmoothingSolution::Converged { .. } => {}
                     SmoothingSolution::BeyondReach { h } => {
@@ -1805,7 +1821,7 @@ impl<const D: usize> Simulation<D> {
             self.repeated_searches += 1;
         };
         let p = &mut self.particles;
-        for (i, solution) in solutions.into_iter().enumerate() {
+        for (&i, solution) in which.iter().zip(solutions) {
             if let SmoothingSolution::Converged { h, density, omega } = solution {
                 p.smoothing_length[i] = h;
                 p.density[i] = density;
@@ -1860,6 +1876,14 @@ impl<const D: usize> Simulation<D> {
             quantity,
             value,
         }
+    }
+}
+
+/// Grad-h's h a time `dt` later, h + Dh/Dt·dt (kept within a factor of two): where its
+/// iteration starts, and with individual time steps the h of a particle between its solves.
+fn predict_smoothing_lengths<const D: usize>(p: &mut Particles<D>, dt: f64) {
+    for (h, rate) in p.smoothing_length.iter_mut().zip(&p.smoothing_rate) {
+        *h = (*h + rate * dt).clamp(0.5 * *h, 2.0 * *h);
     }
 }
 
