@@ -599,6 +599,91 @@ mod tests {
         assert_eq!(lists.of(50).count(), 4);
     }
 
+    /// A list per queried particle and every directed pair counted once: five particles on a
+    /// line one apart, reach 2h = 1.2, link only to their next ones (4 links, 8 directed pairs).
+    #[test]
+    fn lists_count_their_particles_and_pairs() {
+        let x: Vec<Vector<1>> = (0..5).map(|i| Vector::<1>::new(i as f64)).collect();
+        let lists = find_neighbours(&x, &[0.6; 5], 2.0, PairReach::MeanH, 5);
+        assert_eq!(lists.len(), 5);
+        assert!(!lists.is_empty());
+        assert_eq!(lists.pair_count(), 8);
+        assert_eq!(lists.partners(2), &[1, 3]);
+        let none = NeighbourList::default();
+        assert!(none.is_empty());
+        assert_eq!((none.len(), none.pair_count()), (0, 0));
+    }
+
+    /// Cells as wide as asked, floor(extent / size) + 1 of them per axis, and every particle in
+    /// the cell whose box holds it (its distance from the cell's centre at most half a side
+    /// on each axis).
+    #[test]
+    fn each_particle_lies_in_its_cell() {
+        let x: Vec<Vector<2>> = [
+            (0.0, 0.0),
+            (0.05, 0.65),
+            (0.95, 0.35),
+            (0.45, 0.75),
+            (0.31, 0.29),
+            (1.0, 0.9),
+        ]
+        .iter()
+        .map(|&(a, b)| Vector::<2>::new(a + 2.0, b - 1.0))
+        .collect();
+        let grid = CellGrid::build(&x, 0.3);
+        assert_eq!(grid.cell_size, 0.3);
+        assert_eq!(grid.dims, [4, 4]);
+        assert_eq!(grid.members.len(), x.len());
+        for (i, xi) in x.iter().enumerate() {
+            let c = grid.linear_index(&grid.cell_of(xi));
+            assert!(grid.members_of(c).contains(&(i as u32)), "particle {i}");
+            let offset = xi - grid.centre(c);
+            assert!(offset.amax() <= 0.15 + 1e-12, "particle {i}: {offset:?}");
+        }
+    }
+
+    /// A far outlier: the cells double in size from the one asked for until there are at most
+    /// 4n + 64 of them, and no further (half that size would need more).
+    #[test]
+    fn an_outlier_doubles_the_cells_only_as_far_as_needed() {
+        let mut x: Vec<Vector<3>> = (0..100)
+            .map(|i| Vector::<3>::repeat(i as f64 * 0.01))
+            .collect();
+        x.push(Vector::<3>::repeat(1e3));
+        let most = 4 * x.len() + 64;
+        let grid = CellGrid::build(&x, 0.04);
+        let doublings = (grid.cell_size / 0.04).log2();
+        assert!(doublings > 0.0 && doublings.fract() == 0.0, "{doublings}");
+        assert!(grid.dims.iter().product::<usize>() <= most);
+        let half = (1e3 / (0.5 * grid.cell_size)).floor() + 1.0;
+        assert!(half.powi(3) > most as f64);
+    }
+
+    /// Morton keys interleave the coordinates' bits, the first axis lowest.
+    #[test]
+    fn morton_keys_interleave_the_bits() {
+        assert_eq!(morton_key(&[1, 0]), 1);
+        assert_eq!(morton_key(&[0, 1]), 2);
+        assert_eq!(morton_key(&[1, 1]), 3);
+        assert_eq!(morton_key(&[2, 0]), 4);
+        assert_eq!(morton_key(&[0, 2]), 8);
+        assert_eq!(morton_key(&[1, 1, 1]), 7);
+        assert_eq!(morton_key(&[2, 0, 0]), 8);
+        assert_eq!(morton_key(&[0, 0, 2]), 32);
+    }
+
+    /// The locality order visits the cells along the Z curve, and a cell's particles in index
+    /// order: here 2 × 2 cells, the particles given in the reverse of that order.
+    #[test]
+    fn the_locality_order_follows_the_z_curve() {
+        let x: Vec<Vector<2>> = [(1.5, 1.5), (0.5, 1.5), (1.5, 0.5), (0.6, 0.5), (0.5, 0.5)]
+            .iter()
+            .map(|&(a, b)| Vector::<2>::new(a, b))
+            .collect();
+        let grid = CellGrid::build(&x, 1.0);
+        assert_eq!(grid.locality_order(&x), vec![3, 4, 2, 1, 0]);
+    }
+
     /// A particle whose h has grown without bound (a gas expanded to nothing) reaches every
     /// other particle: its search covers the whole grid instead of overflowing the cell range.
     #[test]
