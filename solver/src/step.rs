@@ -8,8 +8,8 @@
 //! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted
 //! v* = v^{n+½} + a^n Δt/2 (and likewise e, ρ), then v^{n+1} = v^{n+½} + a^{n+1} Δt/2.
 //! One global Δt = C·min_i min(h_i / v_sig,i, √(h_i/|a_i|)) (Courant condition with Monaghan's
-//! signal speed, and the force criterion), or in radial scenes with `TimeSteps::Individual`
-//! each particle its own (see [`crate::block_steps`]), the same kicks and drift applied per
+//! signal speed, and the force criterion), or with `TimeSteps::Individual` each particle its
+//! own (see [`crate::block_steps`]), the same kicks and drift applied per
 //! particle.
 
 use crate::axisymmetric::{self, PairGeometry};
@@ -81,8 +81,10 @@ pub enum TimeSteps {
     /// 4 of its neighbours' (see [`crate::block_steps`]); the longest at most `max_ratio` (a
     /// power of two) times the shortest. Particles between the ends of their steps are drifted
     /// and their state predicted, so that their neighbours see them at the current time.
-    /// Radial, Cartesian and axisymmetric scenes, without grad-h, Balsara's switch,
-    /// total-Lagrangian solids or periodic sides (see [`SimulationConfig::validate`]).
+    /// Radial, Cartesian and axisymmetric scenes, without Balsara's switch, total-Lagrangian
+    /// solids or periodic sides (see [`SimulationConfig::validate`]). With grad-h a waiting
+    /// particle's h is predicted from its last rate and its density is the one grad-h ties
+    /// to that h.
     Individual { max_ratio: u64 },
 }
 
