@@ -586,6 +586,21 @@ mod tests {
         }
     }
 
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(16))]
+        /// In lengths a thousand times larger (h from 1 to 1000): the search's reach is κ·h in
+        /// whatever unit, never a sum or ratio that only works out below h = 1.
+        #[test]
+        fn cell_list_equals_brute_force_at_a_large_scale(
+            coords in proptest::collection::vec(-3000.0f64..3000.0, 600),
+            log_h in proptest::collection::vec(0.0f64..3.0, 600),
+        ) {
+            let hs: Vec<f64> = log_h.iter().map(|l| 10f64.powf(*l)).collect();
+            agrees_with_brute_force::<2>(&coords[..400], &hs, 200);
+            agrees_with_brute_force::<3>(&coords, &hs, 200);
+        }
+    }
+
     #[test]
     fn a_far_outlier_does_not_blow_up_the_grid() {
         let mut x: Vec<Vector<3>> = (0..100)
