@@ -109,6 +109,8 @@ particle_store! {
         signal_speed: f64,
         /// Each particle's own viscosity α (Morris & Monaghan's switch); empty without it.
         viscosity_alpha: f64,
+        /// Balsara's factor of each particle's last force evaluation; empty without the switch.
+        balsara_factor: f64,
         /// XSPH's correction to the drift velocity, ε Σ_j m_j/ρ̄_ij (v_j − v_i) W_ij, from the
         /// last force evaluation; empty without XSPH.
         xsph_velocity: Vector<D>,

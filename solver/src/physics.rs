@@ -619,8 +619,6 @@ struct EulerRates<'a> {
     /// Continuity density: the volume form of density, momentum and energy rates.
     volume_form: bool,
     geometry: PairGeometry,
-    /// Each real particle's Balsara factor, where the switch is on.
-    balsara: Option<&'a [f64]>,
 }
 
 impl EulerRates<'_> {
@@ -670,7 +668,11 @@ impl<const D: usize> PairEquation<D, KernelLink> for EulerRates<'_> {
             },
             is_wall: p.image(k).is_some_and(|im| im.is_wall),
             material: p.material_of(k) as u16,
-            balsara: self.balsara.map_or(1.0, |f| f[p.real_index(k)]),
+            balsara: p
+                .balsara_factor
+                .get(p.real_index(k))
+                .copied()
+                .unwrap_or(1.0),
             alpha_factor: p
                 .viscosity_alpha
                 .get(p.real_index(k))
@@ -943,8 +945,8 @@ impl<const D: usize> Default for RateTotals<D> {
 /// Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j) v_ij·∇_i W_ij (continuity, see [`crate::formulation::Density::Continuity`]) or
 /// Σ_j m_j v_ij·∇_i W_ij(h_i) (the rate of the grad-h summation density),
 /// with the grad-h forms where `pair_kernel` is [`PairKernel::OwnH`] (the particles then carry
-/// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess). `balsara` holds each real
-/// particle's switch factor where the switch is on; particles that carry their own α
+/// Ω, and get Dh/Dt = −h/(Dρ)·Dρ/Dt for the next step's guess). Particles that carry Balsara's
+/// factor scale Π_ij by (f_i + f_j)/2; particles that carry their own α
 /// ([`ViscositySwitch`]) scale Π_ij by (α_i + α_j)/(2α). In an axisymmetric `geometry` the pairs see
 /// ring densities and fluxes (see [`crate::axisymmetric`]) and the density rate is Dη/Dt.
 /// For the real particles `which`; each one's wall force and viscous heating join its entry
@@ -955,7 +957,6 @@ pub fn compute_rates<const D: usize>(
     kernel_pairs: &KernelPairs,
     viscosity: &ArtificialViscosity,
     energy: EnergyEquation,
-    balsara: Option<&[f64]>,
     geometry: PairGeometry,
     which: &[usize],
     books: &mut [RateTotals<D>],
@@ -965,7 +966,6 @@ pub fn compute_rates<const D: usize>(
         energy,
         volume_form: !particles.density_rate.is_empty(),
         geometry,
-        balsara,
     };
     let rates = pairs::gather_at(&equation, particles, kernel_pairs, which);
     let p = particles;

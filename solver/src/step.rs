@@ -81,8 +81,9 @@ pub enum TimeSteps {
     /// 4 of its neighbours' (see [`crate::block_steps`]); the longest at most `max_ratio` (a
     /// power of two) times the shortest. Particles between the ends of their steps are drifted
     /// and their state predicted, so that their neighbours see them at the current time.
-    /// Radial, Cartesian and axisymmetric scenes, without Balsara's switch, total-Lagrangian
-    /// solids or periodic sides (see [`SimulationConfig::validate`]). With grad-h a waiting
+    /// Radial, Cartesian and axisymmetric scenes, without total-Lagrangian solids or periodic
+    /// sides (see [`SimulationConfig::validate`]); a waiting particle's Balsara factor is that
+    /// of its last force evaluation. With grad-h a waiting
     /// particle's h is predicted from its last rate and its density is the one grad-h ties
     /// to that h.
     Individual { max_ratio: u64 },
@@ -154,17 +155,14 @@ impl SimulationConfig {
                     &format!("a power of two from 2 to {}", TimeSteps::MAX_RATIO),
                 ));
             }
-            // what each particle's own step is not yet built for: Balsara's factor and the
-            // bonds of total-Lagrangian solids are read from every partner
-            let unsupported = [
-                ("total-Lagrangian", self.formulation.is_total_lagrangian()),
-                ("balsara", self.viscosity.balsara),
-            ];
-            if let Some((what, _)) = unsupported.iter().find(|(_, on)| *on) {
+            // what each particle's own step is not yet built for: the bonds of
+            // total-Lagrangian solids are read from every partner
+            if self.formulation.is_total_lagrangian() {
                 return Err(SolverError::invalid(
                     "time_steps",
                     "individual",
-                    &format!("global with {what}: individual steps are built for radial, axisymmetric and Cartesian scenes without it"),
+                    "global with total-Lagrangian solids: individual steps are built for \
+                     radial, axisymmetric and Cartesian scenes with updated-Lagrangian solids",
                 ));
             }
         }
@@ -576,6 +574,10 @@ impl<const D: usize> Simulation<D> {
         if config.viscosity.switch.is_some() {
             // every particle starts with the full viscosity, until its flow shows it calm
             particles.viscosity_alpha = vec![config.viscosity.alpha; init.len()];
+        }
+        if config.viscosity.balsara {
+            // set for every particle by the first force evaluation, a global one
+            particles.balsara_factor = vec![1.0; init.len()];
         }
         let mut burn = state.burn;
         if let Some(burn) = &mut burn {
@@ -1643,8 +1645,8 @@ impl<const D: usize> Simulation<D> {
     /// (axisymmetric) → velocity gradients (solids, Balsara, the viscosity switch) → each
     /// particle's Balsara factor and α → the Euler pair terms → the stress pair terms (solids)
     /// → the hoop terms (axisymmetric). Each particle's share of the rate totals joins its
-    /// entry in `books`. Individual time steps pass some particles (never with Balsara's
-    /// switch, see [`SimulationConfig::validate`]); a global step all.
+    /// entry in `books`. Individual time steps pass some particles, a global step all; a
+    /// waiting partner's Balsara factor and α are those of its last evaluation.
     fn evaluate_pair_rates(
         &mut self,
         which: &[usize],
@@ -1672,24 +1674,17 @@ impl<const D: usize> Simulation<D> {
         let switch = self.config.viscosity.switch;
         let gradients = (solids || self.config.viscosity.balsara || switch.is_some())
             .then(|| physics::velocity_gradients(p, kernel_pairs, pair_geometry, which));
-        let balsara: Option<Vec<f64>> = match (&gradients, self.config.viscosity.balsara) {
-            (Some(gradients), true) => Some(
-                which
-                    .iter()
-                    .zip(gradients)
-                    .enumerate()
-                    .map(|(k, (&i, gradient))| {
-                        physics::balsara_factor(
-                            gradient,
-                            hoop_rate_of(k),
-                            p.sound_speed[i],
-                            p.smoothing_length[i],
-                        )
-                    })
-                    .collect(),
-            ),
-            _ => None,
-        };
+        if let (Some(gradients), true) = (&gradients, self.config.viscosity.balsara) {
+            // a waiting partner's factor is that of its last force evaluation
+            for (k, (&i, gradient)) in which.iter().zip(gradients).enumerate() {
+                p.balsara_factor[i] = physics::balsara_factor(
+                    gradient,
+                    hoop_rate_of(k),
+                    p.sound_speed[i],
+                    p.smoothing_length[i],
+                );
+            }
+        }
         if let (Some(switch), Some(gradients)) = (switch, &gradients) {
             let updates = which
                 .iter()
@@ -1703,7 +1698,6 @@ impl<const D: usize> Simulation<D> {
             kernel_pairs,
             &self.config.viscosity,
             self.config.energy,
-            balsara.as_deref(),
             pair_geometry,
             which,
             books,

@@ -113,6 +113,18 @@ fn planar_individual_steps_with_grad_h_follow_a_blast_with_less_work() {
     follow_the_hot_core(grad_h);
 }
 
+/// The same blast with Balsara's switch: each particle's factor is set by its own force
+/// evaluations, and a waiting partner lends the pair its last one. The same limits (measured:
+/// energy 2.8e-4, global steps 1.8e-4; pressure 0.19 %, velocity 0.30 %; updates 0.53).
+#[test]
+fn planar_individual_steps_with_balsara_follow_a_blast_with_less_work() {
+    follow_the_hot_core(|time_steps| {
+        let mut config = continuity(time_steps);
+        config.viscosity.balsara = true;
+        config
+    });
+}
+
 fn follow_the_hot_core(config: fn(TimeSteps) -> SimulationConfig) {
     let run = |time_steps| {
         let mut sim = hot_core(40, config(time_steps));
@@ -292,7 +304,7 @@ fn planar_individual_steps_are_deterministic_across_thread_counts() {
 }
 
 /// What individual steps are not built for in planar scenes is refused by name: periodic
-/// sides, the total-Lagrangian formulation and Balsara's switch.
+/// sides and the total-Lagrangian formulation.
 #[test]
 fn planar_setups_individual_steps_do_not_support_are_refused_by_name() {
     let gas = || vec![Material::new("air", IdealGas::new(1.4).unwrap())];
@@ -312,26 +324,15 @@ fn planar_setups_individual_steps_do_not_support_are_refused_by_name() {
     );
     let err = Simulation::new(&init, gas(), domain, continuity(INDIVIDUAL)).unwrap_err();
     assert!(err.to_string().contains("domain sides"), "{err}");
-    let configs = [
-        (
-            "total-Lagrangian",
-            Formulation::TotalLagrangian { hourglass: 0.0 },
-            false,
-        ),
-        ("balsara", continuity(INDIVIDUAL).formulation, true),
-    ];
-    for (what, formulation, balsara) in configs {
-        let mut config = SimulationConfig {
-            formulation,
-            ..continuity(INDIVIDUAL)
-        };
-        config.viscosity.balsara = balsara;
-        let err = config.validate().unwrap_err().to_string();
-        assert!(
-            err.contains("time_steps") && err.contains(what),
-            "{what}: {err}"
-        );
-    }
+    let config = SimulationConfig {
+        formulation: Formulation::TotalLagrangian { hourglass: 0.0 },
+        ..continuity(INDIVIDUAL)
+    };
+    let err = config.validate().unwrap_err().to_string();
+    assert!(
+        err.contains("time_steps") && err.contains("total-Lagrangian"),
+        "{err}"
+    );
 }
 
 /// The pulse through the stiff inclusion as rings about the axis r = 0 (axisymmetric, the
