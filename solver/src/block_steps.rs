@@ -161,6 +161,14 @@ impl BlockSteps {
         self.step[i] > neighbour_step.saturating_mul(NEIGHBOUR_STEP_RATIO)
     }
 
+    /// The particles whose steps could make a neighbour's exceed the limiter: those more than
+    /// [`NEIGHBOUR_STEP_RATIO`] times shorter than the longest step, in index order.
+    pub fn possible_limiters(&self) -> impl Iterator<Item = usize> + '_ {
+        let longest = self.step.iter().copied().max().unwrap_or(0);
+        (0..self.step.len())
+            .filter(move |&i| self.step[i].saturating_mul(NEIGHBOUR_STEP_RATIO) < longest)
+    }
+
     /// Whether particle i's step exceeds the limiter's (see [`Self::exceeds_limit`]) and it
     /// has begun (it can end at the current tick).
     pub fn must_wake(&self, i: usize, neighbour_step: u64) -> bool {
@@ -239,6 +247,24 @@ mod tests {
 
     /// A step woken part-way ends at the current tick, as long as it has run since it started
     /// (here a step of 2 started at tick 2, woken at tick 3).
+    /// Steps of 1, 4, 8, 16 and 64: only those more than four times shorter than the longest
+    /// (1, 4 and 8; 16 · 4 = 64 is not shorter) can make a neighbour's step exceed the
+    /// limiter; with every step equal, none.
+    #[test]
+    fn possible_limiters_are_the_steps_four_times_shorter_than_the_longest() {
+        let steps = [1.0, 4.0, 8.0, 16.0, 64.0];
+        let mut block = BlockSteps::new(0.0, &steps, 1024, 1000.0);
+        for (i, &dt) in steps.iter().enumerate() {
+            block.start_step(i, dt, u64::MAX).unwrap();
+        }
+        assert_eq!(block.possible_limiters().collect::<Vec<_>>(), [0, 1, 2]);
+        let mut even = BlockSteps::new(0.0, &[2.0; 3], 1024, 1000.0);
+        for i in 0..3 {
+            even.start_step(i, 2.0, u64::MAX).unwrap();
+        }
+        assert_eq!(even.possible_limiters().count(), 0);
+    }
+
     #[test]
     fn a_woken_step_is_as_long_as_it_has_run() {
         let mut block = BlockSteps::new(0.0, &[1.0, 64.0], 1024, 1000.0);

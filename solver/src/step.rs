@@ -1068,14 +1068,28 @@ impl<const D: usize> Simulation<D> {
     /// The real particles whose steps end now, and those woken by a neighbour's step more than
     /// four times shorter: a woken particle's step ends now, and its half-step values and
     /// position are corrected to those of a step that had been this long from its start (its
-    /// kick and drift used the longer one).
+    /// kick and drift used the longer one), in index order.
+    ///
+    /// Only a partner of a particle with a short enough step can be woken (the lists are
+    /// symmetric), so the limiter tests those alone: the partners of the possible limiters,
+    /// and the later partners of each particle woken here, whose shortened step may limit
+    /// them in turn.
     fn ending_and_woken(&mut self, blocks: &mut BlockSteps) -> Vec<usize> {
         let n = self.particles.n_real();
+        let mut candidate = vec![false; n];
+        for j in blocks.possible_limiters() {
+            for i in self.neighbours.of(j).filter(|&i| i < n) {
+                candidate[i] = true;
+            }
+        }
         let mut active = Vec::new();
         for i in 0..n {
             if blocks.ends_now(i) {
                 active.push(i);
-            } else if blocks.must_wake(i, self.shortest_neighbour_step(blocks, i)) {
+            } else if candidate[i] && blocks.must_wake(i, self.shortest_neighbour_step(blocks, i)) {
+                for k in self.neighbours.of(i).filter(|&k| k > i && k < n) {
+                    candidate[k] = true;
+                }
                 let (old, new) = blocks.end_early(i);
                 let shortened = 0.5 * (old - new);
                 let (p, half) = (&mut self.particles, &mut self.half);
