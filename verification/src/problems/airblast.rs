@@ -49,7 +49,9 @@
 use crate::gauges::{interpolate, Gauge, GaugeTrace};
 use crate::materials::Library;
 use crate::params::{ParamSpec, Params};
-use crate::record::{conservation_checks, Check, Conservation, ProblemOutput, Record, Run, Table};
+use crate::record::{
+    conservation_checks, phase_seconds, Check, Conservation, ProblemOutput, Record, Run, Table,
+};
 use crate::scaled::air_blast::{air_blast, AirBlast, Burst};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::vtk::Snapshot;
@@ -60,6 +62,7 @@ use blastsph_solver::{
     ProgrammedBurn, ShellDensity, Simulation, SimulationConfig, SmoothingLength, Vector,
     ViscositySwitch,
 };
+use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 pub const FREE_AIR: &str = "airblast-free-air";
@@ -466,7 +469,9 @@ fn run_one(
     let mut offset = 0.0;
     let mut rezone_at = REZONE_FIRST * radius / s.detonation_speed;
     let (mut rezones, mut refused_rezones) = (0, 0);
-    let mut steps = 0;
+    // the work of the simulations before the last rezone
+    let (mut steps, mut updates) = (0, 0);
+    let mut phases = BTreeMap::<String, f64>::new();
     while offset + sim.time() < t_end {
         // the run stops exactly at each rezone, where every particle's step has ended
         let stop = rezone_at.min(t_end) - offset;
@@ -487,6 +492,10 @@ fn run_one(
                 }
             };
             steps += sim.steps();
+            updates += sim.particle_updates();
+            for (phase, seconds) in phase_seconds(&sim.phase_times()) {
+                *phases.entry(phase).or_default() += seconds;
+            }
             offset += sim.time();
             let materials = vec![library.material("tnt")?, library.material("air")?];
             let built = Simulation::<1>::new(&fresh, materials, Domain::open(), s.config);
@@ -500,6 +509,12 @@ fn run_one(
     }
     run.record_work(&sim, start);
     run.steps += steps;
+    if let Some(total) = run.metrics.get_mut("particle_updates") {
+        *total += updates as f64;
+    }
+    for (phase, seconds) in phases {
+        *run.phase_s.entry(phase).or_default() += seconds;
+    }
     run.metrics.insert("rezones".into(), rezones as f64);
     run.metrics
         .insert("refused_rezones".into(), refused_rezones as f64);
