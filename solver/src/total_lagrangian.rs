@@ -689,6 +689,72 @@ mod tests {
         }
     }
 
+    /// The work of the forces becomes internal energy: on a checkerboard displacement with the
+    /// particles moving at arbitrary speeds, the stress forces' power Σ m a·v is the negative
+    /// of Σ m ė = Σ V0 P:Ḟ (the force and Ḟ are built from the same corrected gradients, so
+    /// the discrete sums cancel exactly); the hourglass control's share of the forces (with
+    /// less without) has the power Σ m Δa·v, and its share of the energy rates Σ m Δė is the
+    /// booked hourglass heating, the negative of that power. Mirror images included: the
+    /// whole symmetric body conserves energy, and the real half carries half of each sum. To
+    /// 1e-9 of the power.
+    #[test]
+    fn the_forces_turn_their_work_into_internal_energy() {
+        let eos = crate::eos::MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap();
+        let material = Material::new("solid", eos)
+            .with_strength(crate::strength::Strength::elastic(1.0).unwrap());
+        let evaluated = |hourglass: f64| {
+            let (mut p, domain) = block();
+            let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
+            let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
+            for k in 0..p.n_real() {
+                let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
+                p.position[k][1] += 1e-3 * if parity == 0 { 1.0 } else { -1.0 };
+                let s = k as f64;
+                p.velocity[k] = Vector::<3>::new((7.0 * s).sin(), (3.0 * s).cos(), (5.0 * s).sin());
+            }
+            let totals = reference
+                .evaluate(
+                    &mut p,
+                    std::slice::from_ref(&material),
+                    &ArtificialViscosity::default(),
+                    hourglass,
+                )
+                .unwrap();
+            (p, totals)
+        };
+        let ((with, totals), (without, _)) = (evaluated(1.0), evaluated(0.0));
+        let (mut stress_power, mut internal, mut stress_scale) = (0.0, 0.0, 0.0);
+        for i in 0..without.n_real() {
+            let m = without.mass[i];
+            let force_power = m * without.acceleration[i].dot(&without.velocity[i]);
+            stress_power += force_power;
+            stress_scale += force_power.abs();
+            internal += m * without.energy_rate[i];
+        }
+        assert!(
+            (stress_power + internal).abs() < 1e-9 * stress_scale,
+            "stress power {stress_power}, internal {internal}"
+        );
+        let (mut power, mut heating, mut scale) = (0.0, 0.0, 0.0);
+        for i in 0..with.n_real() {
+            let m = with.mass[i];
+            let force_power =
+                m * (with.acceleration[i] - without.acceleration[i]).dot(&with.velocity[i]);
+            power += force_power;
+            scale += force_power.abs();
+            heating += m * (with.energy_rate[i] - without.energy_rate[i]);
+        }
+        assert!(scale > 0.0, "the control acts");
+        assert!(
+            (heating - totals.hourglass_heating).abs() < 1e-9 * scale,
+            "booked"
+        );
+        assert!(
+            (power + heating).abs() < 1e-9 * scale,
+            "power {power} heating {heating}"
+        );
+    }
+
     /// A lone particle has no neighbourhood to correct: refused by name.
     #[test]
     fn a_particle_without_neighbours_is_refused() {
