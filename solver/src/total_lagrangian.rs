@@ -484,8 +484,11 @@ mod tests {
     use crate::kernel::KernelShape;
     use crate::particles::{OptionalFields, ParticleInit};
 
-    /// A jittered 6×5×4 block of unit density, mirrored at x = 0 (a symmetry plane), open
-    /// elsewhere.
+    /// The symmetry plane of [`block`]: off the origin, so that the mirror's offset counts.
+    const MIRROR_X: f64 = 0.4;
+
+    /// A jittered 6×5×4 block of unit density, mirrored at x = [`MIRROR_X`] (a symmetry
+    /// plane), open elsewhere.
     fn block() -> (Particles<3>, Domain<3>) {
         let dx = 0.1;
         let mut init = Vec::new();
@@ -493,7 +496,7 @@ mod tests {
             let jitter =
                 |salt: usize| 0.1 * (((k * 7919 + salt * 104729) % 1000) as f64 / 500.0 - 1.0);
             let position = Vector::<3>::new(
-                ((k % 6) as f64 + 0.5 + jitter(1)) * dx,
+                MIRROR_X + ((k % 6) as f64 + 0.5 + jitter(1)) * dx,
                 ((k / 6 % 5) as f64 + 0.5 + jitter(2)) * dx,
                 ((k / 30) as f64 + 0.5 + jitter(3)) * dx,
             );
@@ -508,8 +511,8 @@ mod tests {
             });
         }
         let domain = Domain::with_sides(
-            Vector::<3>::zeros(),
-            Vector::<3>::repeat(1.0),
+            Vector::<3>::new(MIRROR_X, 0.0, 0.0),
+            Vector::<3>::repeat(1.0 + MIRROR_X),
             [Boundary::Wall, Boundary::Open, Boundary::Open],
             [Boundary::Open; 3],
         )
@@ -521,8 +524,9 @@ mod tests {
         (Particles::new(&init, optional), domain)
     }
 
-    /// The corrected gradient reproduces linear fields: under x = A X + b, v = B X (both
-    /// keeping the mirror plane x = 0: no shear across it, no shift along its normal) every
+    /// The corrected gradient reproduces linear fields: under x − m = A (X − m) + b,
+    /// v = B (X − m) with m on the mirror plane (both keeping it: no shear across it, no shift
+    /// along its normal) every
     /// particle, inside, on the free surface and beside the mirror, has F = A and Ḟ = B to
     /// round-off, and no bond deviates from the affine prediction, so the hourglass control
     /// is silent.
@@ -534,10 +538,11 @@ mod tests {
         let a = Tensor::<3>::new(1.3, 0.0, 0.0, 0.0, 0.8, 0.25, 0.0, -0.1, 1.1);
         let b = Tensor::<3>::new(-2.0, 0.0, 0.0, 0.0, 0.5, 3.0, 0.0, -1.0, 0.7);
         let shift = Vector::<3>::new(0.0, 0.3, -0.2);
+        let mirror = Vector::<3>::new(MIRROR_X, 0.0, 0.0);
         for i in 0..p.n_real() {
-            let x = p.position[i];
+            let x = p.position[i] - mirror;
             p.velocity[i] = b * x;
-            p.position[i] = a * x + shift;
+            p.position[i] = a * x + shift + mirror;
         }
         for (i, kin) in reference.kinematics(&p).iter().enumerate() {
             assert!(
@@ -573,10 +578,11 @@ mod tests {
         let h0 = p.smoothing_length.clone();
         let a = Tensor::<3>::new(0.95, 0.0, 0.0, 0.0, 0.97, 0.02, 0.0, -0.01, 0.98);
         let b = Tensor::<3>::new(-3.0, 0.0, 0.0, 0.0, -1.0, 2.0, 0.0, -0.5, -2.0);
+        let mirror = Vector::<3>::new(MIRROR_X, 0.0, 0.0);
         for i in 0..p.n_real() {
-            let x = p.position[i];
+            let x = p.position[i] - mirror;
             p.velocity[i] = b * x;
-            p.position[i] = a * x;
+            p.position[i] = a * x + mirror;
         }
         let shear_modulus = 1.5;
         let eos = crate::eos::MieGruneisen::linear(1.0, 2.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap();
@@ -631,6 +637,8 @@ mod tests {
                 (pressure + q) * compression / rho,
                 "De/Dt",
             );
+            // the pairs approach one another: the signal is faster than sound
+            assert!(p.signal_speed[i] > p_wave, "signal speed at {i}");
             heating += p.mass[i] * q * compression / rho;
             momentum += p.acceleration[i] * p.mass[i];
         }
@@ -673,6 +681,8 @@ mod tests {
                         hourglass,
                     )
                     .unwrap();
+                // at rest, no pair approaches: the signal travels at the sound speed
+                assert_eq!(p.signal_speed, p.sound_speed);
                 p.acceleration
             };
             let (with, without) = (accelerations(1.0), accelerations(0.0));
