@@ -655,8 +655,8 @@ mod tests {
     /// of Young's modulus E = 9KG/(3K + G) (Ganzenmüller 2015): two solids of equal E from
     /// different bulk and shear moduli (K, G = 1, 1 and 1.5, 0.9: E = 2.25) feel the same
     /// hourglass force on a checkerboard displacement of 1e-4 spacings (the force with control
-    /// less the force without), to 1e-3 (K follows the slightly changed density, which moves E
-    /// by about 1e-5).
+    /// less the force without), and one of twice the moduli (2, 2: E = 4.5) twice that force,
+    /// to 1e-3 (K follows the slightly changed density, which moves E by about 1e-5).
     #[test]
     fn the_hourglass_control_is_as_stiff_as_youngs_modulus() {
         let hourglass_forces = |bulk: f64, shear: f64| {
@@ -692,10 +692,15 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         let (first, second) = (hourglass_forces(1.0, 1.0), hourglass_forces(1.5, 0.9));
+        let stiffer = hourglass_forces(2.0, 2.0);
         let largest = first.iter().map(|f| f.norm()).fold(0.0, f64::max);
         assert!(largest > 0.0, "the control acts on the checkerboard");
-        for (a, b) in first.iter().zip(&second) {
+        for ((a, b), c) in first.iter().zip(&second).zip(&stiffer) {
             assert!((a - b).norm() < 1e-3 * largest, "{a} against {b}");
+            assert!(
+                (2.0 * a - c).norm() < 2e-3 * largest,
+                "{c} against twice {a}"
+            );
         }
     }
 
