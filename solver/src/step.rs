@@ -162,7 +162,8 @@ impl SimulationConfig {
                     "time_steps",
                     "individual",
                     "global with total-Lagrangian solids: individual steps are built for \
-                     radial, axisymmetric and Cartesian scenes with updated-Lagrangian solids",
+                     radial, axisymmetric and Cartesian scenes of fluids and updated-Lagrangian \
+                     solids",
                 ));
             }
         }
