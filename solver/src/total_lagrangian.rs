@@ -524,6 +524,43 @@ mod tests {
         (Particles::new(&init, optional), domain)
     }
 
+    /// An elastic solid of unit density with bulk modulus K (linear bulk response) and shear
+    /// modulus G.
+    fn solid(bulk: f64, shear: f64) -> Material {
+        let eos = crate::eos::MieGruneisen::linear(1.0, bulk.sqrt(), 0.0, 0.0, f64::NEG_INFINITY)
+            .unwrap();
+        Material::new("solid", eos)
+            .with_strength(crate::strength::Strength::elastic(shear).unwrap())
+    }
+
+    /// [`block`] of `material` with every particle displaced along y by ±`amplitude` in a
+    /// checkerboard (a mode the corrected gradient cannot see), at `velocity(k)`, evaluated
+    /// with hourglass coefficient `hourglass`.
+    fn checkerboard(
+        material: &Material,
+        amplitude: f64,
+        velocity: impl Fn(usize) -> Vector<3>,
+        hourglass: f64,
+    ) -> (Particles<3>, RateTotals<3>) {
+        let (mut p, domain) = block();
+        let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
+        let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
+        for k in 0..p.n_real() {
+            let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
+            p.position[k][1] += amplitude * if parity == 0 { 1.0 } else { -1.0 };
+            p.velocity[k] = velocity(k);
+        }
+        let totals = reference
+            .evaluate(
+                &mut p,
+                std::slice::from_ref(material),
+                &ArtificialViscosity::default(),
+                hourglass,
+            )
+            .unwrap();
+        (p, totals)
+    }
+
     /// The corrected gradient reproduces linear fields: under x − m = A (X − m) + b,
     /// v = B (X − m) with m on the mirror plane (both keeping it: no shear across it, no shift
     /// along its normal) every
@@ -585,9 +622,7 @@ mod tests {
             p.position[i] = a * x + mirror;
         }
         let shear_modulus = 1.5;
-        let eos = crate::eos::MieGruneisen::linear(1.0, 2.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap();
-        let material = Material::new("solid", eos)
-            .with_strength(crate::strength::Strength::elastic(shear_modulus).unwrap());
+        let material = solid(4.0, shear_modulus);
         let viscosity = ArtificialViscosity::default();
         let totals = reference
             .evaluate(&mut p, std::slice::from_ref(&material), &viscosity, 1.0)
@@ -660,32 +695,14 @@ mod tests {
     #[test]
     fn the_hourglass_control_is_as_stiff_as_youngs_modulus() {
         let hourglass_forces = |bulk: f64, shear: f64| {
-            let eos =
-                crate::eos::MieGruneisen::linear(1.0, bulk.sqrt(), 0.0, 0.0, f64::NEG_INFINITY)
-                    .unwrap();
-            let material = Material::new("solid", eos)
-                .with_strength(crate::strength::Strength::elastic(shear).unwrap());
-            let accelerations = |hourglass: f64| {
-                let (mut p, domain) = block();
-                let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
-                let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
-                for (k, x) in p.position.iter_mut().enumerate() {
-                    let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
-                    x[1] += 1e-5 * if parity == 0 { 1.0 } else { -1.0 };
-                }
-                reference
-                    .evaluate(
-                        &mut p,
-                        std::slice::from_ref(&material),
-                        &ArtificialViscosity::default(),
-                        hourglass,
-                    )
-                    .unwrap();
+            let material = solid(bulk, shear);
+            let at_rest = |hourglass: f64| {
+                let (p, _) = checkerboard(&material, 1e-5, |_| Vector::zeros(), hourglass);
                 // at rest, no pair approaches: the signal travels at the sound speed
                 assert_eq!(p.signal_speed, p.sound_speed);
                 p.acceleration
             };
-            let (with, without) = (accelerations(1.0), accelerations(0.0));
+            let (with, without) = (at_rest(1.0), at_rest(0.0));
             with.iter()
                 .zip(&without)
                 .map(|(a, b)| a - b)
@@ -714,29 +731,12 @@ mod tests {
     /// 1e-9 of the power.
     #[test]
     fn the_forces_turn_their_work_into_internal_energy() {
-        let eos = crate::eos::MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap();
-        let material = Material::new("solid", eos)
-            .with_strength(crate::strength::Strength::elastic(1.0).unwrap());
-        let evaluated = |hourglass: f64| {
-            let (mut p, domain) = block();
-            let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
-            let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
-            for k in 0..p.n_real() {
-                let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
-                p.position[k][1] += 1e-3 * if parity == 0 { 1.0 } else { -1.0 };
-                let s = k as f64;
-                p.velocity[k] = Vector::<3>::new((7.0 * s).sin(), (3.0 * s).cos(), (5.0 * s).sin());
-            }
-            let totals = reference
-                .evaluate(
-                    &mut p,
-                    std::slice::from_ref(&material),
-                    &ArtificialViscosity::default(),
-                    hourglass,
-                )
-                .unwrap();
-            (p, totals)
+        let material = solid(1.0, 1.0);
+        let moving = |k: usize| {
+            let s = k as f64;
+            Vector::<3>::new((7.0 * s).sin(), (3.0 * s).cos(), (5.0 * s).sin())
         };
+        let evaluated = |hourglass: f64| checkerboard(&material, 1e-3, moving, hourglass);
         let ((with, totals), (without, _)) = (evaluated(1.0), evaluated(0.0));
         let (mut stress_power, mut internal, mut stress_scale) = (0.0, 0.0, 0.0);
         for i in 0..without.n_real() {
