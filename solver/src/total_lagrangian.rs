@@ -488,15 +488,15 @@ mod tests {
     const MIRROR_X: f64 = 0.4;
 
     /// A jittered 6×5×4 block of unit density, mirrored at x = [`MIRROR_X`] (a symmetry
-    /// plane), open elsewhere.
-    fn block() -> (Particles<3>, Domain<3>) {
-        let dx = 0.1;
+    /// plane), open elsewhere; every length times `scale`.
+    fn block(scale: f64) -> (Particles<3>, Domain<3>) {
+        let dx = 0.1 * scale;
         let mut init = Vec::new();
         for k in 0..6 * 5 * 4 {
             let jitter =
                 |salt: usize| 0.1 * (((k * 7919 + salt * 104729) % 1000) as f64 / 500.0 - 1.0);
             let position = Vector::<3>::new(
-                MIRROR_X + ((k % 6) as f64 + 0.5 + jitter(1)) * dx,
+                MIRROR_X * scale + ((k % 6) as f64 + 0.5 + jitter(1)) * dx,
                 ((k / 6 % 5) as f64 + 0.5 + jitter(2)) * dx,
                 ((k / 30) as f64 + 0.5 + jitter(3)) * dx,
             );
@@ -511,8 +511,8 @@ mod tests {
             });
         }
         let domain = Domain::with_sides(
-            Vector::<3>::new(MIRROR_X, 0.0, 0.0),
-            Vector::<3>::repeat(1.0 + MIRROR_X),
+            Vector::<3>::new(MIRROR_X * scale, 0.0, 0.0),
+            Vector::<3>::repeat((1.0 + MIRROR_X) * scale),
             [Boundary::Wall, Boundary::Open, Boundary::Open],
             [Boundary::Open; 3],
         )
@@ -535,19 +535,20 @@ mod tests {
 
     /// [`block`] of `material` with every particle displaced along y by ±`amplitude` in a
     /// checkerboard (a mode the corrected gradient cannot see), at `velocity(k)`, evaluated
-    /// with hourglass coefficient `hourglass`.
+    /// with hourglass coefficient `hourglass`; every length times `scale`.
     fn checkerboard(
         material: &Material,
         amplitude: f64,
         velocity: impl Fn(usize) -> Vector<3>,
         hourglass: f64,
+        scale: f64,
     ) -> (Particles<3>, RateTotals<3>) {
-        let (mut p, domain) = block();
+        let (mut p, domain) = block(scale);
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
         for k in 0..p.n_real() {
             let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
-            p.position[k][1] += amplitude * if parity == 0 { 1.0 } else { -1.0 };
+            p.position[k][1] += amplitude * scale * if parity == 0 { 1.0 } else { -1.0 };
             p.velocity[k] = velocity(k);
         }
         let totals = reference
@@ -569,7 +570,7 @@ mod tests {
     /// is silent.
     #[test]
     fn affine_motion_is_reproduced_exactly() {
-        let (mut p, domain) = block();
+        let (mut p, domain) = block(1.0);
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
         let a = Tensor::<3>::new(1.3, 0.0, 0.0, 0.0, 0.8, 0.25, 0.0, -0.1, 1.1);
@@ -609,7 +610,7 @@ mod tests {
     /// mirror's reaction (momentum). Each to 1e-9 relative: F and Ḟ are reproduced to 1e-12.
     #[test]
     fn an_affine_compression_takes_the_continuum_state_and_rates() {
-        let (mut p, domain) = block();
+        let (mut p, domain) = block(1.0);
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
         let h0 = p.smoothing_length.clone();
@@ -697,7 +698,7 @@ mod tests {
         let hourglass_forces = |bulk: f64, shear: f64| {
             let material = solid(bulk, shear);
             let at_rest = |hourglass: f64| {
-                let (p, _) = checkerboard(&material, 1e-5, |_| Vector::zeros(), hourglass);
+                let (p, _) = checkerboard(&material, 1e-5, |_| Vector::zeros(), hourglass, 1.0);
                 // at rest, no pair approaches: the signal travels at the sound speed
                 assert_eq!(p.signal_speed, p.sound_speed);
                 p.acceleration
@@ -721,6 +722,64 @@ mod tests {
         }
     }
 
+    /// The hourglass control's force is a stress times an area: with every length of the
+    /// block and of its checkerboard doubled, each particle's share (the forces with the
+    /// control less those without) is four times as large. Its pair stiffness
+    /// κ E V_i V_j W_ij/|X_ij|² grows as the length (V² as its sixth power, W as its inverse
+    /// cube, |X|² as its square) and acts on a stretch that grows as the length; the force
+    /// points along the bond.
+    #[test]
+    fn the_hourglass_force_scales_as_a_stress_times_an_area() {
+        let material = solid(1.0, 1.0);
+        let hourglass_forces = |scale: f64| {
+            let forces = |hourglass: f64| {
+                let (p, _) = checkerboard(&material, 1e-5, |_| Vector::zeros(), hourglass, scale);
+                (0..p.n_real())
+                    .map(|k| p.acceleration[k] * p.mass[k])
+                    .collect::<Vec<_>>()
+            };
+            let (with, without) = (forces(1.0), forces(0.0));
+            with.iter()
+                .zip(&without)
+                .map(|(a, b)| a - b)
+                .collect::<Vec<_>>()
+        };
+        let (unit, doubled) = (hourglass_forces(1.0), hourglass_forces(2.0));
+        let largest = unit.iter().map(|f| f.norm()).fold(0.0, f64::max);
+        assert!(largest > 0.0, "the control acts on the checkerboard");
+        for (a, b) in unit.iter().zip(&doubled) {
+            assert!(
+                (4.0 * a - b).norm() < 1e-3 * largest,
+                "{b} against four times {a}"
+            );
+        }
+    }
+
+    /// Two bonded particles driven onto one point: their bond has no direction, and the
+    /// hourglass control leaves it out rather than dividing by its zero length.
+    #[test]
+    fn a_bond_of_zero_length_gets_no_hourglass_force() {
+        let (mut p, domain) = block(1.0);
+        let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
+        let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
+        p.position[1] = p.position[0];
+        reference
+            .evaluate(
+                &mut p,
+                &[solid(1.0, 1.0)],
+                &ArtificialViscosity::default(),
+                1.0,
+            )
+            .unwrap();
+        for k in 0..p.n_real() {
+            assert!(
+                p.acceleration[k].iter().all(|a| a.is_finite()),
+                "particle {k}"
+            );
+            assert!(p.energy_rate[k].is_finite(), "particle {k}");
+        }
+    }
+
     /// The work of the forces becomes internal energy: on a checkerboard displacement with the
     /// particles moving at arbitrary speeds, the stress forces' power Σ m a·v is the negative
     /// of Σ m ė = Σ V0 P:Ḟ (the force and Ḟ are built from the same corrected gradients, so
@@ -736,7 +795,7 @@ mod tests {
             let s = k as f64;
             Vector::<3>::new((7.0 * s).sin(), (3.0 * s).cos(), (5.0 * s).sin())
         };
-        let evaluated = |hourglass: f64| checkerboard(&material, 1e-3, moving, hourglass);
+        let evaluated = |hourglass: f64| checkerboard(&material, 1e-3, moving, hourglass, 1.0);
         let ((with, totals), (without, _)) = (evaluated(1.0), evaluated(0.0));
         let (mut stress_power, mut internal, mut stress_scale) = (0.0, 0.0, 0.0);
         for i in 0..without.n_real() {
@@ -773,7 +832,7 @@ mod tests {
     /// A lone particle has no neighbourhood to correct: refused by name.
     #[test]
     fn a_particle_without_neighbours_is_refused() {
-        let (mut p, domain) = block();
+        let (mut p, domain) = block(1.0);
         p.position[0] = Vector::<3>::new(0.5, 5.0, 5.0);
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let error = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap_err();
