@@ -854,17 +854,23 @@ mod tests {
         );
     }
 
-    /// A stretch whose least singular values lie close (0.6 and 0.7, the largest 1.2),
-    /// turned on both sides: the power iteration's first estimate is several per cent off,
-    /// and its stop at a change of 1e-3 in λ leaves less than 1e-3.
+    /// A stretch whose least singular values lie close (0.6 and 0.7 of the largest's 1.2, all
+    /// times `scale`), turned on both sides: the power iteration's first estimate is several
+    /// per cent off, and its stop at a relative change of 1e-3 in λ leaves less than 1e-3 at
+    /// any scale (squeezed twentyfold to stretched tenfold).
     #[test]
     fn least_singular_value_of_a_turned_stretch() {
         let left = nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
         let right = nalgebra::Rotation3::from_euler_angles(0.5, 0.2, -0.9).into_inner();
-        let stretch = Tensor::<3>::from_diagonal(&Vector::<3>::new(1.2, 0.6, 0.7));
-        let f = left * stretch * right.transpose();
-        let sigma = least_singular_value(&invert(&f).unwrap());
-        assert!((sigma / 0.6 - 1.0).abs() < 2e-3, "{sigma}");
+        for scale in [0.05, 1.0, 10.0] {
+            let stretch = Tensor::<3>::from_diagonal(&Vector::<3>::new(1.2, 0.6, 0.7)) * scale;
+            let f = left * stretch * right.transpose();
+            let sigma = least_singular_value(&invert(&f).unwrap());
+            assert!(
+                (sigma / (0.6 * scale) - 1.0).abs() < 2e-3,
+                "{sigma} at {scale}"
+            );
+        }
     }
 
     #[test]
