@@ -165,7 +165,25 @@ mod tests {
         assert!((share - 0.714).abs() < 0.03, "{share}");
         let again = graded_diameters(4000, 1e-4, 5e-4, &mut SplitMix64::new(7)).unwrap();
         assert_eq!(d, again);
-        assert!(graded_diameters(10, 5e-4, 1e-4, &mut rng).is_err());
+    }
+
+    /// A range is 0 < d_min < d_max < ∞: reversed, empty, starting at zero or open-ended
+    /// ranges are refused by name.
+    #[test]
+    fn a_range_of_diameters_must_be_finite_and_positive() {
+        let mut rng = SplitMix64::new(7);
+        for (d_min, d_max) in [
+            (5e-4, 1e-4),
+            (1e-4, 1e-4),
+            (0.0, 1e-4),
+            (-1e-4, 1e-4),
+            (1e-4, f64::INFINITY),
+            (f64::NAN, 1e-4),
+        ] {
+            let error = graded_diameters(10, d_min, d_max, &mut rng).unwrap_err();
+            assert!(error.to_string().contains("grain diameters"), "{error}");
+        }
+        assert!(graded_diameters(10, 1e-4, 1.0001e-4, &mut rng).is_ok());
     }
 
     /// A loose placement has no overlaps and keeps every disc inside the box.
@@ -186,5 +204,26 @@ mod tests {
                 assert!((x[i] - x[j]).norm() >= r + 0.6 * radii[j] - 1e-15);
             }
         }
+    }
+
+    /// The largest disc goes first: one disc of radius 0.45 fits a unit box only while the
+    /// box is empty (its centre within 0.1 of the middle), and forty of radius 0.02 fit
+    /// around it in the corners; placed after them, it would find a small disc in its way.
+    #[test]
+    fn the_largest_disc_is_placed_first() {
+        let mut radii = vec![0.02; 40];
+        radii.insert(17, 0.45);
+        let placed =
+            place_without_overlap(&radii, (1.0, 1.0), 1.0, 10_000, &mut SplitMix64::new(5));
+        assert!(placed.is_ok(), "{placed:?}");
+    }
+
+    /// A box too small for a disc is named, with the disc, rather than left half-filled.
+    #[test]
+    fn a_disc_without_room_is_named() {
+        let error =
+            place_without_overlap(&[0.3, 0.3], (1.0, 1.0), 1.0, 1000, &mut SplitMix64::new(1))
+                .unwrap_err();
+        assert!(error.to_string().contains("placement of disc"), "{error}");
     }
 }
