@@ -269,11 +269,26 @@ fn expanded_sample(friction: f64, stress: f64) -> (Discs, PreparedSample) {
 /// 0.15–0.2, looser with friction) and a mean coordination of the load-carrying discs (wall
 /// contacts counted) between the isostatic bounds of 2D jamming, 3 (frictional, μ → ∞) and 4
 /// (frictionless), allowing 0.5 above 4 for the springs' finite overlap. Measured: porosity
-/// 0.213, coordination 3.10, 182 000 steps.
+/// 0.213, coordination 3.10, 182 000 steps. The wall stress is checked as the walls feel it:
+/// the mean of the four walls' normal forces over their areas (length × layer thickness),
+/// ½(σ_xx + σ_yy); the steps as whole cycles of 500.
 #[test]
 fn radius_expansion_jams_a_graded_sample_at_the_target_stress() {
-    let (_, done) = expanded_sample(0.5, 1000.0);
-    assert!((done.wall_stress / 1000.0 - 1.0).abs() < 0.02, "{done:?}");
+    let (discs, done) = expanded_sample(0.5, 1000.0);
+    let thickness = discs.layer_thickness();
+    let pressure = |wall: usize, length: f64| discs.wall_force[wall].norm() / (length * thickness);
+    let sigma_xx = 0.5 * (pressure(0, done.height) + pressure(1, done.height));
+    let sigma_yy = 0.5 * (pressure(2, done.width) + pressure(3, done.width));
+    let felt = 0.5 * (sigma_xx + sigma_yy);
+    assert!(
+        (felt / done.wall_stress - 1.0).abs() < 1e-12,
+        "{felt} {done:?}"
+    );
+    assert!((felt / 1000.0 - 1.0).abs() < 0.02, "{felt} {done:?}");
+    assert!(
+        done.preparation_steps > 0 && done.preparation_steps % 500 == 0,
+        "{done:?}"
+    );
     assert!((0.1..0.3).contains(&done.porosity), "{done:?}");
     assert!((3.0..4.5).contains(&done.coordination), "{done:?}");
 }
