@@ -207,7 +207,7 @@ mod tests {
     }
 
     /// The largest disc goes first: one disc of radius 0.45 fits a unit box only while the
-    /// box is empty (its centre within 0.1 of the middle), and forty of radius 0.02 fit
+    /// box is empty (its centre within 0.05 of the middle along each axis), and forty of radius 0.02 fit
     /// around it in the corners; placed after them, it would find a small disc in its way.
     #[test]
     fn the_largest_disc_is_placed_first() {
