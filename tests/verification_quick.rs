@@ -420,6 +420,14 @@ fn ground_shock_surface_passes_its_quick_checks() {
     assert_all_checks_pass_or_meet_known_limits(&output);
     let headline = output.record.headline().expect("a headline run");
     assert_eq!(headline.gauges.len(), 10);
+    // the run with the air blast on the ground: its air gauges against Kingery–Bulmash
+    for gauge in ["air-10m", "air-20m"] {
+        for q in ["peak_overpressure", "arrival", "impulse"] {
+            let name = format!("air_{q}_error_{gauge}_n_4");
+            let check = output.record.check(&name).expect("the check is recorded");
+            assert!(check.pass, "{name}: {}", check.value);
+        }
+    }
     for depth in [5, 10, 15, 20] {
         for q in ["peak_stress", "peak_velocity"] {
             let name = format!("{q}_factor_from_relations_axis-{depth}m_n_4");

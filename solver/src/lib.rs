@@ -40,8 +40,8 @@ pub use physics::{
 };
 pub use radial::Geometry;
 pub use step::{
-    ArtificialHeating, Checkpoint, Departed, InitialState, PhaseTimes, PrescribedMotion,
-    Simulation, SimulationConfig, TimeSteps,
+    ArtificialHeating, Checkpoint, Departed, ExternalLoad, InitialState, PhaseTimes,
+    PrescribedMotion, Simulation, SimulationConfig, TimeSteps,
 };
 pub use strength::{
     DruckerPrager, JohnsonCook, PlasticHeating, Strength, VonMises, YieldState, YieldSurface,

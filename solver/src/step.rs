@@ -286,6 +286,8 @@ pub struct Simulation<const D: usize> {
     reference: Option<ReferenceConfiguration<D>>,
     /// Particles whose motion is prescribed.
     prescribed: Option<std::sync::Arc<dyn PrescribedMotion<D>>>,
+    /// A load from outside the scene.
+    load: Option<std::sync::Arc<dyn ExternalLoad<D>>>,
     /// Individual time steps: the hierarchy of the current block, and where the particles were
     /// when the kept neighbour lists were searched.
     blocks: Option<BlockSteps>,
@@ -372,6 +374,13 @@ pub trait PrescribedMotion<const D: usize>: Send + Sync + std::fmt::Debug {
     fn acceleration(&self, id: u32, time: f64) -> Option<Vector<D>>;
 }
 
+/// A load applied from outside the scene to some particles, by particle id: the acceleration
+/// it adds at a time (e.g. the pressure of an air blast on a ground surface whose air the
+/// scene does not hold).
+pub trait ExternalLoad<const D: usize>: Send + Sync + std::fmt::Debug {
+    fn acceleration(&self, id: u32, time: f64) -> Option<Vector<D>>;
+}
+
 /// What a scene adds to its particles' initial state beyond [`ParticleInit`].
 #[derive(Clone, Debug, Default)]
 pub struct InitialState<const D: usize> {
@@ -380,6 +389,8 @@ pub struct InitialState<const D: usize> {
     /// difference is booked as an external force (impulse with the walls', work with the
     /// energy exchanged with the outside).
     pub prescribed: Option<std::sync::Arc<dyn PrescribedMotion<D>>>,
+    /// A load from outside (its force is booked as the prescribed motions' is).
+    pub load: Option<std::sync::Arc<dyn ExternalLoad<D>>>,
     /// The programmed burn of a charge (one lighting time per particle).
     pub burn: Option<ProgrammedBurn>,
     /// The deviatoric stress of each particle (zero in fluids), e.g. a geostatic state.
@@ -446,10 +457,11 @@ impl<const D: usize> Simulation<D> {
         if let Some(burn) = &state.burn {
             one_each("lighting times", burn.lighting_time.len())?;
         }
-        let external = state.held_in_equilibrium || state.prescribed.is_some();
+        let external =
+            state.held_in_equilibrium || state.prescribed.is_some() || state.load.is_some();
         if external && config.formulation.is_total_lagrangian() {
             return Err(SolverError::invalid(
-                "held in equilibrium or prescribed motion",
+                "held in equilibrium, prescribed motion or an external load",
                 "a total-Lagrangian scene",
                 "Cartesian, axisymmetric or radial scenes (the bond pass has no external forces)",
             ));
@@ -612,6 +624,7 @@ impl<const D: usize> Simulation<D> {
             burn,
             reference,
             prescribed: state.prescribed,
+            load: state.load,
             blocks: None,
             list_origin: ListOrigin::default(),
             kernel_pairs: physics::KernelPairs::default(),
@@ -662,6 +675,22 @@ impl<const D: usize> Simulation<D> {
                 p.acceleration[i] = prescribed;
                 book.wall_force += external * p.mass[i];
                 book.transmitted_power -= p.mass[i] * external.dot(&p.velocity[i]);
+            }
+        }
+    }
+
+    /// Adds the external load's acceleration at `time` to each of the real particles `which`
+    /// it acts on, booked as [`Simulation::apply_external_accelerations`] books its own.
+    fn apply_external_load(&mut self, time: f64, which: &[usize], books: &mut [RateTotals<D>]) {
+        let Some(load) = &self.load else {
+            return;
+        };
+        let p = &mut self.particles;
+        for (&i, book) in which.iter().zip(books) {
+            if let Some(a) = load.acceleration(p.id[i], time) {
+                p.acceleration[i] += a;
+                book.wall_force += a * p.mass[i];
+                book.transmitted_power -= p.mass[i] * a.dot(&p.velocity[i]);
             }
         }
     }
@@ -1436,8 +1465,8 @@ impl<const D: usize> Simulation<D> {
 
     /// The rates of the real particles `which`, whose steps (of length `dt(i)`) end at `time`,
     /// from the state of every particle: the pair passes (radial, or planar and
-    /// axisymmetric), then the traction of transmitting sides, the external accelerations and
-    /// the prescribed motions. Returns each one's share of the rate totals (in `which`'s
+    /// axisymmetric), then the traction of transmitting sides, the external accelerations, the
+    /// external load and the prescribed motions. Returns each one's share of the rate totals (in `which`'s
     /// order).
     fn evaluate_rates_of(
         &mut self,
@@ -1453,6 +1482,7 @@ impl<const D: usize> Simulation<D> {
         }
         self.apply_transmitting_boundaries(which, &mut books);
         self.apply_external_accelerations(which, &mut books);
+        self.apply_external_load(time, which, &mut books);
         self.apply_prescribed_motion(time, which, &mut books);
         books
     }

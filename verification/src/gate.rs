@@ -13,7 +13,9 @@
 //!   within [`CONVERGENCE_LIMIT`].
 //!
 //! What the gate cannot check yet is named under `not_covered`, so that a study shows it: the
-//! ground shock that the surface burst's air blast induces (the free field has no air).
+//! ground shock that the surface burst's air blast induces (the free field carries it, and
+//! `ground-shock-surface` checks the air blast on the ground against Kingery–Bulmash, but no
+//! independent reference for the induced shock is checked).
 //!
 //! A gate's result is written as JSON with a hash of its inputs: the request, the problems'
 //! parameters and the bytes of the program that ran them. The same request with the same
@@ -235,9 +237,10 @@ pub fn run_gate(
         problems: Vec::new(),
         checks: Vec::new(),
         not_covered: vec![
-            "air-induced ground shock: the surface burst's air blast loading the ground \
-             away from the charge (ground-shock-surface has no air; airblast-surface checks \
-             the air blast alone)"
+            "air-induced ground shock: the free field carries the surface burst's air blast \
+             pressing on the ground beyond the fireball, and ground-shock-surface checks that \
+             blast on the ground against Kingery–Bulmash, but the shock it induces in the soil \
+             is checked against no independent reference"
                 .into(),
         ],
     };

@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 /// What a gauge read, summed up (SI). Pressures are above the ambient pressure.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct Gauge {
     pub name: String,
     pub position_m: f64,

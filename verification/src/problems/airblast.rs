@@ -418,11 +418,25 @@ struct Measured {
     snapshot: Option<Snapshot>,
 }
 
-fn run_one(
+/// A run of the scene: its record, each gauge's trace, the simulation it ended with (none
+/// where the solver refused the scene) and the fireball's radius, the farthest the products
+/// reached (m).
+struct Stepped {
+    run: Run,
+    traces: Vec<GaugeTrace>,
+    sim: Option<Simulation<1>>,
+    fireball_m: f64,
+}
+
+/// The scene of `s` at n shells across the charge's radius, run to `t_end` and rezoned as
+/// [`rezone`] says; the gauges of `traces` read after every step.
+fn simulate(
     s: &Settings,
     n: usize,
+    mut traces: Vec<GaugeTrace>,
+    t_end: f64,
     progress: &(dyn Fn(f64) + Sync),
-) -> Result<Measured, VerifyError> {
+) -> Result<Stepped, VerifyError> {
     let library = Library::standard();
     let scale = s.charge_kg.cbrt();
     let radius = charge_radius(s.simulated_charge_kg(), library.value("tnt", "rho0")?);
@@ -438,15 +452,7 @@ fn run_one(
         s.ramp,
     )?;
     let materials = vec![library.material("tnt")?, library.material("air")?];
-    let t_end = END_MARGIN * {
-        let last = reference(s, GAUGE_Z[GAUGE_Z.len() - 1])?;
-        last.arrival_s + last.duration_s.unwrap_or(0.0)
-    };
     let mut run = Run::new(format!("n = {n}"), "", init.len(), radius / n as f64);
-    let mut traces: Vec<GaugeTrace> = GAUGE_Z
-        .iter()
-        .map(|&z| GaugeTrace::new(format!("Z = {z}"), z * scale))
-        .collect();
     let start = std::time::Instant::now();
     let Some(mut sim) = run.started(Simulation::<1>::with_programmed_burn(
         &init,
@@ -456,14 +462,15 @@ fn run_one(
         burn,
     ))?
     else {
-        return Ok(Measured {
+        return Ok(Stepped {
             run,
             traces,
-            snapshot: None,
+            sim: None,
+            fireball_m: radius,
         });
     };
     let books = Conservation::open(&sim);
-    read_gauges(&sim, 0.0, s.ambient_pressure, &mut traces);
+    let mut fireball_m = read_gauges(&sim, 0.0, s.ambient_pressure, &mut traces);
     let mut outcome = Ok(());
     // the time the current simulation started at, and when the next rezone is due
     let mut offset = 0.0;
@@ -479,7 +486,8 @@ fn run_one(
         if outcome.is_err() {
             break;
         }
-        read_gauges(&sim, offset, s.ambient_pressure, &mut traces);
+        let contact = read_gauges(&sim, offset, s.ambient_pressure, &mut traces);
+        fireball_m = fireball_m.max(contact);
         progress((offset + sim.time()) / t_end);
         if sim.time() >= stop && rezone_at < t_end {
             let eta = s.config.formulation.eta().unwrap_or(2.0);
@@ -523,18 +531,48 @@ fn run_one(
     } else {
         books.close(&sim, &mut run.metrics);
     }
+    run.metrics.insert("charge_radius_m".into(), radius);
+    run.metrics.insert("t_end_s".into(), t_end);
+    Ok(Stepped {
+        run,
+        traces,
+        sim: Some(sim),
+        fireball_m,
+    })
+}
+
+/// The scene at n shells with its gauges at [`GAUGE_Z`], against Kingery–Bulmash.
+fn run_one(
+    s: &Settings,
+    n: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Measured, VerifyError> {
+    let scale = s.charge_kg.cbrt();
+    let t_end = END_MARGIN * {
+        let last = reference(s, GAUGE_Z[GAUGE_Z.len() - 1])?;
+        last.arrival_s + last.duration_s.unwrap_or(0.0)
+    };
+    let traces = GAUGE_Z
+        .iter()
+        .map(|&z| GaugeTrace::new(format!("Z = {z}"), z * scale))
+        .collect();
+    let Stepped {
+        mut run,
+        traces,
+        sim,
+        ..
+    } = simulate(s, n, traces, t_end, progress)?;
+    let Some(sim) = sim else {
+        return Ok(Measured {
+            run,
+            traces,
+            snapshot: None,
+        });
+    };
     for (trace, &z) in traces.iter().zip(&GAUGE_Z) {
         let gauge = trace.summary();
         let kb = reference(s, z)?;
-        for (q, value, relation) in [
-            (
-                "peak_overpressure",
-                gauge.peak_pressure_pa,
-                kb.incident_overpressure_pa,
-            ),
-            ("arrival", gauge.arrival_s, kb.arrival_s),
-            ("impulse", gauge.impulse_pa_s, kb.incident_impulse_pa_s),
-        ] {
+        for (q, value, relation) in against_relations_of(&gauge, &kb) {
             run.errors
                 .insert(format!("{q}_error_z{z}"), relative_error(value, relation));
             run.metrics
@@ -573,14 +611,25 @@ fn run_one(
         "mean_peak_overpressure_error_simulated_sphere".into(),
         mean_sphere_error,
     );
-    let m = &mut run.metrics;
-    m.insert("charge_radius_m".into(), radius);
-    m.insert("t_end_s".into(), t_end);
     Ok(Measured {
         run,
         traces,
         snapshot: Some(Snapshot::of(&sim)),
     })
+}
+
+/// A gauge's peak overpressure, arrival and positive impulse, each with its name and the
+/// value Kingery–Bulmash give.
+pub(crate) fn against_relations_of(gauge: &Gauge, kb: &AirBlast) -> [(&'static str, f64, f64); 3] {
+    [
+        (
+            "peak_overpressure",
+            gauge.peak_pressure_pa,
+            kb.incident_overpressure_pa,
+        ),
+        ("arrival", gauge.arrival_s, kb.arrival_s),
+        ("impulse", gauge.impulse_pa_s, kb.incident_impulse_pa_s),
+    ]
 }
 
 /// The gauges' Z that are checked against Kingery–Bulmash: from Z = 1 of the simulated sphere
@@ -628,9 +677,14 @@ pub(super) fn relative_error(value: f64, reference: f64) -> f64 {
     (value / reference - 1.0).abs()
 }
 
-/// Appends each gauge's overpressure and velocity at the current time.
-fn read_gauges(sim: &Simulation<1>, offset: f64, ambient: f64, traces: &mut [GaugeTrace]) {
+/// Appends each gauge's overpressure and velocity at the current time; returns the contact's
+/// radius (the outermost product shell's).
+fn read_gauges(sim: &Simulation<1>, offset: f64, ambient: f64, traces: &mut [GaugeTrace]) -> f64 {
     let p = sim.particles();
+    let contact = (0..p.n_real())
+        .filter(|&i| p.material_of(i) == 0)
+        .map(|i| p.position[i][0])
+        .fold(0.0, f64::max);
     let mut order: Vec<usize> = (0..p.n_real()).collect();
     order.sort_by(|&a, &b| p.position[a][0].total_cmp(&p.position[b][0]));
     let profile = |value: &dyn Fn(usize) -> f64| -> Vec<(f64, f64)> {
@@ -648,6 +702,48 @@ fn read_gauges(sim: &Simulation<1>, offset: f64, ambient: f64, traces: &mut [Gau
             interpolate(&pressure, r),
             interpolate(&velocity, r),
         );
+    }
+    contact
+}
+
+/// The air's overpressure on a rigid ground under a hemispherical surface burst of
+/// `charge_kg` of TNT, at each of `radii` (m) from the burst from t = 0 to `end_s`: the scene
+/// of `airblast-surface` (the hemisphere and its mirror image, a 2W sphere in free air) at
+/// `n` shells across the charge's radius and its default settings. Within the fireball (the
+/// farthest the products reached) it reads zero: the air's load alone.
+pub fn ground_overpressure(
+    charge_kg: f64,
+    radii: &[f64],
+    end_s: f64,
+    n: usize,
+) -> Result<Vec<GaugeTrace>, VerifyError> {
+    let info = infos()
+        .into_iter()
+        .find(|info| info.name == SURFACE)
+        .expect("the surface burst is a problem");
+    let params = Params::new(SURFACE, &info.params, Level::Quick, &[])?;
+    let s = settings(&params, Burst::Hemispherical, charge_kg)?;
+    let traces = radii
+        .iter()
+        .map(|&r| GaugeTrace::new(format!("r = {r} m"), r))
+        .collect();
+    let mut stepped = simulate(&s, n, traces, end_s, &|_| {})?;
+    for trace in &mut stepped.traces {
+        if trace.position_m <= stepped.fireball_m {
+            trace.overpressure.fill(0.0);
+            trace.velocity.fill(0.0);
+        }
+    }
+    match (&stepped.run.failure, &stepped.sim) {
+        (None, Some(_)) => Ok(stepped.traces),
+        (failure, _) => Err(VerifyError::Scene {
+            line: 0,
+            key: "air_blast".into(),
+            message: format!(
+                "the air blast of {charge_kg} kg on the ground failed at {n} shells: {}",
+                failure.as_deref().unwrap_or("refused by the solver")
+            ),
+        }),
     }
 }
 

@@ -1,7 +1,7 @@
 //! The canonical problem suite. Each problem: parameters with per-level defaults, a setup, an
 //! exact answer, checks with justified limits.
 
-mod airblast;
+pub(crate) mod airblast;
 mod biaxial;
 mod capillary_pair;
 mod colliding_rings;

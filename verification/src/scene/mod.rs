@@ -34,6 +34,10 @@
 //! name = "crown"
 //! position = [0.0, -6.8]
 //! ```
+//!
+//! An axisymmetric scene with `[gravity]` may add the air blast of a TNT charge lying on the
+//! surface at the axis, `[air_blast]` with `charge` (kg) and optionally `shells` (see
+//! [`AirBlast`]); a gauge above the surface then reads the air's overpressure.
 
 mod run;
 
@@ -138,6 +142,16 @@ struct SceneFile {
     body: Vec<Spanned<BodyFile>>,
     #[serde(default)]
     gauge: Vec<Spanned<GaugeFile>>,
+    air_blast: Option<Spanned<AirBlastFile>>,
+}
+
+/// A TNT charge lying on the ground at the axis whose air blast loads the ground's surface
+/// (the air itself is not in the scene).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AirBlastFile {
+    charge: f64,
+    shells: Option<usize>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -306,6 +320,27 @@ pub struct Gravity {
     pub surface: f64,
 }
 
+/// The air blast of a TNT charge lying on the ground's surface at the axis (a hemispherical
+/// surface burst), which the scene does not hold as particles: its overpressure on a rigid
+/// ground, from the one-dimensional scene of `airblast-surface` (see
+/// [`crate::problems::airblast::ground_overpressure`]), presses on the top layer of the ground
+/// wherever the air, not the products, covers it. The coupling is one way: the ground's
+/// motion does not reach back into the air, whose acoustic impedance (about 400 Pa·s/m) is a
+/// thousandth of a soil's. A gauge above the surface, in no body, reads this overpressure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AirBlast {
+    pub charge_kg: f64,
+    /// Shells across the charge's radius in the one-dimensional air blast.
+    pub shells: usize,
+}
+
+/// Where an air blast's numbers may lie.
+pub const AIR_BLAST_CHARGE_RANGE: (f64, f64) = (1e-3, 1e6);
+pub const AIR_BLAST_SHELLS_RANGE: (f64, f64) = (4.0, 200.0);
+/// The shells across the charge of the air blast that loads a scene: the quick level of
+/// `airblast-surface`, whose overpressure at Z ≥ 1 lies within its gate there.
+pub const AIR_BLAST_SHELLS: usize = 20;
+
 #[derive(Clone, Debug)]
 pub struct GaugePoint {
     pub name: String,
@@ -334,6 +369,7 @@ pub struct Scene {
     pub materials: Vec<SceneMaterial>,
     pub bodies: Vec<Body>,
     pub gauges: Vec<GaugePoint>,
+    pub air_blast: Option<AirBlast>,
 }
 
 /// Where a scene's numbers may lie.
@@ -661,6 +697,38 @@ impl Scene {
             });
         }
 
+        let air_blast = file
+            .air_blast
+            .as_ref()
+            .map(|a| {
+                let span = a.span();
+                if geometry != Geometry::Axisymmetric || gravity.is_none() {
+                    return Err(cx.error(
+                        span,
+                        "air_blast",
+                        "an air blast loads the ground of an axisymmetric scene with [gravity] \
+                         (whose surface it lies on, at the axis)",
+                    ));
+                }
+                let a = a.get_ref();
+                let charge_kg = cx.within(
+                    span.clone(),
+                    "air_blast.charge",
+                    a.charge,
+                    AIR_BLAST_CHARGE_RANGE,
+                    "kg TNT",
+                )?;
+                let shells = cx.within(
+                    span,
+                    "air_blast.shells",
+                    a.shells.unwrap_or(AIR_BLAST_SHELLS) as f64,
+                    AIR_BLAST_SHELLS_RANGE,
+                    "shells across the charge's radius",
+                )? as usize;
+                Ok(AirBlast { charge_kg, shells })
+            })
+            .transpose()?;
+
         Ok(Scene {
             name: file.scene.name,
             geometry,
@@ -677,6 +745,7 @@ impl Scene {
             materials,
             bodies,
             gauges,
+            air_blast,
         })
     }
 

@@ -11,8 +11,9 @@
 //! the simulation's state between two steps, from which it resumes bitwise (see
 //! [`Checkpoints`]); a finished run removes it.
 
-use super::{contains, Body, Geometry, Gravity, Scene, StepChoice, INDIVIDUAL_MAX_RATIO};
-use crate::gauges::ARRIVAL_FRACTION;
+use super::{contains, AirBlast, Body, Geometry, Gravity, Scene, StepChoice, INDIVIDUAL_MAX_RATIO};
+use crate::gauges::{Gauge, GaugeTrace, ARRIVAL_FRACTION};
+use crate::problems::airblast::ground_overpressure;
 use crate::problems::viscosity_switched_down_to;
 use crate::report::write_atomic;
 use crate::vtk::{status_code, Snapshot};
@@ -20,9 +21,9 @@ use crate::VerifyError;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
 use blastsph_solver::{
-    Boundary, Density, Domain, EnergyEquation, Formulation, InitialState, KernelShape, Material,
-    PrescribedMotion, ProgrammedBurn, Simulation, SimulationConfig, SmoothingLength, Tensor,
-    Vector,
+    Boundary, Density, Domain, EnergyEquation, ExternalLoad, Formulation, InitialState,
+    KernelShape, Material, PrescribedMotion, ProgrammedBurn, Simulation, SimulationConfig,
+    SmoothingLength, Tensor, Vector,
 };
 use blastsph_solver::{Checkpoint, Departed};
 use serde::de::DeserializeOwned;
@@ -70,6 +71,8 @@ pub struct RunSummary {
     pub yielded: BTreeMap<String, usize>,
     pub failed: BTreeMap<String, usize>,
     pub gauges: Vec<GaugeSummary>,
+    /// The gauges above the ground, which read the overpressure of the scene's air blast.
+    pub air_gauges: Vec<Gauge>,
 }
 
 /// A gauge's place, the particle it reads and its peaks.
@@ -200,6 +203,77 @@ struct Built<const D: usize> {
     burn: Option<ProgrammedBurn>,
     /// The geostatic deviatoric stress of each particle, with gravity.
     deviatoric_stress: Option<Vec<Tensor<D>>>,
+}
+
+/// The overpressure of a scene's air blast on the top layer of its ground (see
+/// [`super::AirBlast`]): each loaded particle is pressed down by p times its ring's upper face
+/// 2π r Δ over its mass, p read at its starting radius and interpolated linearly in time.
+#[derive(Debug)]
+struct AirLoad {
+    times: Vec<f64>,
+    /// Overpressure at `times`, per radius.
+    overpressure: Vec<Vec<f64>>,
+    /// Per particle id: its radius's index, and face area over mass (m²/kg).
+    loaded: Vec<Option<(usize, f64)>>,
+}
+
+impl AirLoad {
+    /// The overpressure at radius `k` and `time`.
+    fn overpressure_at(&self, k: usize, time: f64) -> f64 {
+        let p = &self.overpressure[k];
+        let after = self.times.partition_point(|&t| t <= time);
+        match after {
+            0 => p[0],
+            a if a == self.times.len() => p[a - 1],
+            a => {
+                let (t0, t1) = (self.times[a - 1], self.times[a]);
+                p[a - 1] + (time - t0) / (t1 - t0) * (p[a] - p[a - 1])
+            }
+        }
+    }
+}
+
+impl<const D: usize> ExternalLoad<D> for AirLoad {
+    fn acceleration(&self, id: u32, time: f64) -> Option<Vector<D>> {
+        let (k, area_over_mass) = self.loaded.get(id as usize).copied().flatten()?;
+        let mut a = Vector::<D>::zeros();
+        a[D - 1] = -self.overpressure_at(k, time) * area_over_mass;
+        Some(a)
+    }
+}
+
+/// The ground's load from the scene's air blast and the traces of the gauges above the ground
+/// at `air_gauges`' radii: the top layer of every body that is not an explosive (the
+/// particles within one spacing below the surface) is loaded.
+fn air_load<const D: usize>(
+    scene: &Scene,
+    air: AirBlast,
+    gravity: Gravity,
+    built: &Built<D>,
+    air_gauges: &[f64],
+) -> Result<(AirLoad, Vec<GaugeTrace>), VerifyError> {
+    let mut radii = Vec::new();
+    let mut loaded = vec![None; built.init.len()];
+    for (k, q) in built.init.iter().enumerate() {
+        let body = &scene.bodies[built.body_of[k]];
+        let explosive = scene.materials[body.material].detonation_speed.is_some();
+        if explosive || q.position[D - 1] + body.spacing <= gravity.surface {
+            continue;
+        }
+        let face = 2.0 * PI * q.position[0] * body.spacing;
+        loaded[k] = Some((radii.len(), face / q.mass));
+        radii.push(q.position[0]);
+    }
+    let on_ground = radii.len();
+    radii.extend_from_slice(air_gauges);
+    let mut traces = ground_overpressure(air.charge_kg, &radii, scene.end_time, air.shells)?;
+    let gauges = traces.split_off(on_ground);
+    let load = AirLoad {
+        times: traces.first().map_or_else(Vec::new, |t| t.time.clone()),
+        overpressure: traces.into_iter().map(|t| t.overpressure).collect(),
+        loaded,
+    };
+    Ok((load, gauges))
 }
 
 /// The point lies in `body`: in its shape and in none of its holes.
@@ -723,16 +797,32 @@ pub fn run_with<const D: usize, O: Observer<D>>(
     }
     let built = build::<D>(scene)?;
     let mut gauges = Vec::new();
+    let mut air_gauges = Vec::new();
     for g in &scene.gauges {
-        let body = scene
-            .bodies
-            .iter()
-            .position(|b| in_body(b, &g.position))
-            .ok_or_else(|| VerifyError::Scene {
+        let above_ground = match (scene.air_blast, scene.gravity) {
+            (Some(_), Some(gravity)) => g.position[D - 1] >= gravity.surface,
+            _ => false,
+        };
+        let Some(body) = scene.bodies.iter().position(|b| in_body(b, &g.position)) else {
+            if above_ground {
+                air_gauges.push(g);
+                continue;
+            }
+            return Err(VerifyError::Scene {
                 line: g.line,
                 key: "gauge.position".into(),
-                message: format!("gauge '{}' at {:?} lies in no body", g.name, g.position),
-            })?;
+                message: format!(
+                    "gauge '{}' at {:?} lies in no body{}",
+                    g.name,
+                    g.position,
+                    if scene.air_blast.is_some() {
+                        " and below the ground's surface"
+                    } else {
+                        ""
+                    }
+                ),
+            });
+        };
         let x = Vector::<D>::from_column_slice(&g.position);
         let nearest = (0..built.init.len())
             .filter(|&i| built.body_of[i] == body)
@@ -762,8 +852,20 @@ pub fn run_with<const D: usize, O: Observer<D>>(
     let materials = scene_materials(scene)?;
     let config = config(scene);
     let started = Instant::now();
+    let (load, air_traces) = match (scene.air_blast, scene.gravity) {
+        (Some(air), Some(gravity)) => {
+            let radii: Vec<f64> = air_gauges.iter().map(|g| g.position[0]).collect();
+            let (load, mut traces) = air_load(scene, air, gravity, &built, &radii)?;
+            for (trace, g) in traces.iter_mut().zip(&air_gauges) {
+                trace.name = g.name.clone();
+            }
+            (Some(Arc::new(load) as Arc<dyn ExternalLoad<D>>), traces)
+        }
+        _ => (None, Vec::new()),
+    };
     let state = InitialState {
         prescribed: prescribe(&built.init, &built.body_of),
+        load,
         burn: built.burn,
         held_in_equilibrium: built.deviatoric_stress.is_some(),
         deviatoric_stress: built.deviatoric_stress,
@@ -982,6 +1084,7 @@ pub fn run_with<const D: usize, O: Observer<D>>(
                 arrival_s: arrival(&g.rows),
             })
             .collect(),
+        air_gauges: air_traces.iter().map(GaugeTrace::summary).collect(),
         energy_exchanged_j: sim.transmitted_energy(),
         departed: sim.departed(),
         yielded: count_by_body(&|i| {
