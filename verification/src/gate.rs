@@ -13,9 +13,9 @@
 //!   within [`CONVERGENCE_LIMIT`].
 //!
 //! What the gate cannot check yet is named under `not_covered`, so that a study shows it: the
-//! ground shock that the surface burst's air blast induces (the free field carries it, and
-//! `ground-shock-surface` checks the air blast on the ground against Kingery–Bulmash, but no
-//! independent reference for the induced shock is checked).
+//! ground shock that the surface burst's air blast induces (the study's free field does not
+//! carry it; `ground-shock-surface` checks the air blast on the ground against Kingery–Bulmash
+//! and reports what it adds, against no reference).
 //!
 //! A gate's result is written as JSON with a hash of its inputs: the request, the problems'
 //! parameters and the bytes of the program that ran them. The same request with the same
@@ -237,10 +237,10 @@ pub fn run_gate(
         problems: Vec::new(),
         checks: Vec::new(),
         not_covered: vec![
-            "air-induced ground shock: the free field carries the surface burst's air blast \
-             pressing on the ground beyond the fireball, and ground-shock-surface checks that \
-             blast on the ground against Kingery–Bulmash, but the shock it induces in the soil \
-             is checked against no independent reference"
+            "air-induced ground shock: the study's free field does not carry the surface \
+             burst's air blast on the ground; ground-shock-surface runs it, checks the blast \
+             against Kingery–Bulmash and reports what it adds to the soil's peaks, against no \
+             reference"
                 .into(),
         ],
     };

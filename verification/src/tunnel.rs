@@ -17,9 +17,8 @@
 //! strain, so inside it the wave spreads in the plane only (the free field entering it spreads
 //! in 3D); waves scattered by the tunnel are sent back by the band (it moves with the free
 //! field whatever reaches it), which the section's size keeps away from the crown until after
-//! the first peak; the free field holds no air as particles (the products expand into vacuum
-//! and leave through the top): the air blast loads the ground's surface one way, from the
-//! one-dimensional hemispherical burst, beyond the fireball (see [`crate::surface_burst`]).
+//! the first peak; the free field has no air above the ground (the products expand into
+//! vacuum and leave through the top).
 
 use crate::gate::{run_gate, GateRequest};
 use crate::problems::ground_shock::soil_model;
@@ -901,7 +900,7 @@ fn prepare_charge(
             far_spacing_m: far_spacing,
             gauges,
             end_time_s: end,
-            air_blast: true,
+            air_blast: false,
         }
         .text()
     };
@@ -1012,7 +1011,7 @@ pub enum Outcome {
 }
 
 pub const MODEL: &str = "quick: per charge one axisymmetric free-field run (the charge on the \
-soil, no tunnel, the air blast loading the ground beyond the fireball), then per depth a plane-strain section across the tunnel driven at its \
+soil, no tunnel, no air), then per depth a plane-strain section across the tunnel driven at its \
 edge by that free field (domain reduction)";
 
 /// What the quick level's cases were measured to be against the full level's 3D quarter model
@@ -1820,11 +1819,12 @@ fn report_content(study: &Study) -> ReportContent {
             soil_model(&study.request.soil).unwrap_or("?")
         ),
         "Left out by the reduced model: in the section the wave spreads in the plane only; \
-         waves scattered by the tunnel are sent back by the driven band; the air is not held \
-         as particles: its blast (the one-dimensional hemispherical burst, within 15 % of \
-         Kingery–Bulmash at 10 and 20 m from 500 kg) presses on the ground beyond the \
-         fireball one way, and inside the fireball the products expand into vacuum. \
-         Stresses and pressures are totals (the geostatic state included)."
+         waves scattered by the tunnel are sent back by the driven band; no air blast on the \
+         ground (ground-shock-surface runs the free field with it, the air blast within 15 % \
+         of Kingery–Bulmash: it leaves the axis gauges within 3 % and raises the peaks 10 m \
+         off the axis by up to 1.7 times at 15–20 m depth; this study run with it fails two \
+         of its checks, the crown stress at 500 kg rising 7 % from 15 to 20 m and moving \
+         18 % between resolutions at 10 m, so it is not yet part of the study). Stresses and pressures are totals (the geostatic state included)."
             .to_string(),
         MEASURED_AGAINST_FULL.to_string(),
     ];
