@@ -367,6 +367,18 @@ impl<const D: usize> ListOrigin<D> {
     }
 }
 
+/// Books an external acceleration `a` of a particle of `mass` moving at `velocity`: its force
+/// with the walls', its power with the energy exchanged with the outside.
+fn book_external_acceleration<const D: usize>(
+    book: &mut RateTotals<D>,
+    a: Vector<D>,
+    mass: f64,
+    velocity: &Vector<D>,
+) {
+    book.wall_force += a * mass;
+    book.transmitted_power -= mass * a.dot(velocity);
+}
+
 /// A motion prescribed for some particles, by particle id: their acceleration at a time
 /// (`None` for a particle that moves freely). A band of particles moving with a free field
 /// that was computed elsewhere drives the rest of a scene (a domain-reduction boundary).
@@ -689,8 +701,7 @@ impl<const D: usize> Simulation<D> {
         for (&i, book) in which.iter().zip(books) {
             if let Some(a) = load.acceleration(p.id[i], time) {
                 p.acceleration[i] += a;
-                book.wall_force += a * p.mass[i];
-                book.transmitted_power -= p.mass[i] * a.dot(&p.velocity[i]);
+                book_external_acceleration(book, a, p.mass[i], &p.velocity[i]);
             }
         }
     }
@@ -706,8 +717,7 @@ impl<const D: usize> Simulation<D> {
         for (&i, book) in which.iter().zip(books) {
             let a = p.external_acceleration[i];
             p.acceleration[i] += a;
-            book.wall_force += a * p.mass[i];
-            book.transmitted_power -= p.mass[i] * a.dot(&p.velocity[i]);
+            book_external_acceleration(book, a, p.mass[i], &p.velocity[i]);
         }
     }
 

@@ -60,6 +60,20 @@ impl GaugeTrace {
         }
     }
 
+    /// The overpressure against time as a line labelled `label`, in ms and kPa.
+    pub fn overpressure_series(&self, label: impl Into<String>) -> crate::svg::Series {
+        crate::svg::Series {
+            label: label.into(),
+            points: self
+                .time
+                .iter()
+                .zip(&self.overpressure)
+                .map(|(&t, &p)| (1e3 * t, 1e-3 * p))
+                .collect(),
+            style: crate::svg::Style::Line,
+        }
+    }
+
     pub fn summary(&self) -> Gauge {
         let p = &self.overpressure;
         let peak = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max);

@@ -1038,16 +1038,7 @@ fn outputs(name: &str, s: &Settings, m: &Measured) -> Result<(Table, Figure), Ve
             x_label: "t (ms)".into(),
             y_label: "overpressure (kPa)".into(),
             series: vec![
-                Series {
-                    label: "SPH".into(),
-                    points: trace
-                        .time
-                        .iter()
-                        .zip(&trace.overpressure)
-                        .map(|(&t, &p)| (1e3 * t, 1e-3 * p))
-                        .collect(),
-                    style: Style::Line,
-                },
+                trace.overpressure_series("SPH"),
                 Series {
                     label: "Kingery-Bulmash arrival, peak".into(),
                     points: vec![(1e3 * kb.arrival_s, 1e-3 * kb.incident_overpressure_pa)],

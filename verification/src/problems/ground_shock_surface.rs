@@ -616,18 +616,11 @@ fn outputs(
         [format!("stress_{name}"), format!("speed_{name}")]
     });
     let mut panels = Vec::new();
-    let curve = |run: &Run, trace: &GaugeTrace| Series {
-        label: run.label.clone(),
-        points: trace
-            .time
-            .iter()
-            .zip(&trace.overpressure)
-            .map(|(&t, &p)| (1e3 * t, 1e-3 * p))
-            .collect(),
-        style: Style::Line,
-    };
     for (trace, loaded) in m.traces.iter().zip(&with_air.traces) {
-        let mut series = vec![curve(&m.run, trace), curve(&with_air.run, loaded)];
+        let mut series = vec![
+            trace.overpressure_series(m.run.label.clone()),
+            loaded.overpressure_series(with_air.run.label.clone()),
+        ];
         if let Some(relation) = reference(s, trace.position_m)? {
             series.push(Series {
                 label: format!("TM 5-855-1 arrival, peak (f = {:.2})", s.coupling),
