@@ -1268,6 +1268,836 @@ pub fn add_stress_rates<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::KernelShape;
+    use crate::neighbours::{find_neighbours, PairReach};
+    use crate::particles::{OptionalFields, ParticleInit};
+    use approx::assert_relative_eq;
+
+    /// A viscosity whose every coefficient differs from the others and from the defaults, so
+    /// that a term taking the wrong one is seen.
+    fn distinct_viscosity() -> ArtificialViscosity {
+        ArtificialViscosity {
+            alpha: 0.8,
+            beta: 1.7,
+            eta2: 0.03,
+            alpha_u: 0.4,
+            ..ArtificialViscosity::default()
+        }
+    }
+
+    /// Monaghan's Π = (−α c̄ μ + β μ²)/ρ̄, μ = h v·x/(r² + η²h²), written out term by term.
+    #[test]
+    fn monaghan_viscosity_is_its_formula_for_approaching_pairs_and_zero_otherwise() {
+        let viscosity = distinct_viscosity();
+        let (v_dot_x, r2, h, c, rho) = (-3.0, 0.49, 0.6, 5.0, 1.3);
+        let mu = h * v_dot_x / (r2 + 0.03 * h * h);
+        let expected = (-0.8 * c * mu + 1.7 * mu * mu) / rho;
+        assert_relative_eq!(
+            viscosity.pi(v_dot_x, r2, h, c, rho),
+            expected,
+            max_relative = 1e-14
+        );
+        assert!(expected > 0.0);
+        assert_eq!(viscosity.pi(3.0, r2, h, c, rho), 0.0);
+        assert_eq!(viscosity.pi(0.0, r2, h, c, rho), 0.0);
+    }
+
+    /// Price's conduction α_u √(|p_i − p_j|/ρ̄)(u_i − u_j)/ρ̄: antisymmetric, zero without a
+    /// pressure jump; the pair helpers as their formulas.
+    #[test]
+    fn conduction_and_the_pair_helpers_are_their_formulas() {
+        let viscosity = distinct_viscosity();
+        let heat = viscosity.conduction(7.0, 2.0, 9.0, 1.0, 2.0);
+        assert_relative_eq!(heat, 0.4 * 2.0 * 5.0 / 2.0, max_relative = 1e-14);
+        assert_eq!(viscosity.conduction(2.0, 7.0, 1.0, 9.0, 2.0), -heat);
+        assert_eq!(viscosity.conduction(7.0, 2.0, 3.0, 3.0, 2.0), 0.0);
+        assert_relative_eq!(
+            pressure_term(8.0, 2.0, 9.0, 3.0),
+            8.0 / 4.0 + 9.0 / 9.0,
+            max_relative = 1e-15
+        );
+        assert_eq!(signal_speed(2.0, 3.0, -1.5), 2.0 + 3.0 + 4.5);
+        assert_eq!(signal_speed(2.0, 3.0, 1.5), 5.0);
+    }
+
+    /// The seed's penalty p̄ (pe^n1 − pe^n2), pe = h̄/r, from pe = 1 inwards only.
+    #[test]
+    fn interface_penalty_acts_inside_the_mean_smoothing_length_only() {
+        let penalty = InterfacePenalty::seed(1e5);
+        assert_eq!(
+            penalty.acceleration_times_distance(0.5, 1.0),
+            1e5 * (4096.0 - 64.0)
+        );
+        assert_eq!(penalty.acceleration_times_distance(1.0, 1.0), 0.0);
+        assert_eq!(penalty.acceleration_times_distance(1.01, 1.0), 0.0);
+        let unequal = InterfacePenalty {
+            p_bar: 2.0,
+            n1: 4.0,
+            n2: 2.0,
+        };
+        assert_relative_eq!(
+            unequal.acceleration_times_distance(0.8, 1.2),
+            2.0 * (1.5f64.powi(4) - 1.5f64.powi(2)),
+            max_relative = 1e-14
+        );
+    }
+
+    /// Every coefficient at the edges of its range: the edges themselves accepted, one step
+    /// beyond refused, naming the field.
+    #[test]
+    fn viscosity_coefficients_are_refused_outside_their_ranges_by_name() {
+        let refused = |viscosity: ArtificialViscosity, field: &str| match viscosity.validate() {
+            Err(SolverError::InvalidParameter { field: named, .. }) => {
+                assert_eq!(named, field)
+            }
+            other => panic!("{field}: {other:?}"),
+        };
+        let base = ArtificialViscosity::default();
+        for (alpha, beta, alpha_u) in [(0.0, 0.0, 0.0), (10.0, 10.0, 10.0)] {
+            let edge = ArtificialViscosity {
+                alpha,
+                beta,
+                alpha_u,
+                eta2: 1.0,
+                ..base
+            };
+            assert_eq!(edge.validate(), Ok(()));
+        }
+        refused(
+            ArtificialViscosity {
+                alpha: -0.1,
+                ..base
+            },
+            "alpha",
+        );
+        refused(
+            ArtificialViscosity {
+                alpha: 10.1,
+                ..base
+            },
+            "alpha",
+        );
+        refused(ArtificialViscosity { beta: 10.1, ..base }, "beta");
+        refused(ArtificialViscosity { beta: -0.1, ..base }, "beta");
+        refused(
+            ArtificialViscosity {
+                alpha_u: 10.1,
+                ..base
+            },
+            "alpha_u",
+        );
+        refused(ArtificialViscosity { eta2: 0.0, ..base }, "eta2");
+        refused(ArtificialViscosity { eta2: 1.01, ..base }, "eta2");
+        let switch = ViscositySwitch {
+            alpha_min: 0.1,
+            decay: 0.2,
+        };
+        let switched = ArtificialViscosity {
+            switch: Some(switch),
+            ..base
+        };
+        assert_eq!(switched.validate(), Ok(()));
+        let edges = [(0.0, 1.0), (1.0, 1e-9)];
+        for (alpha_min, decay) in edges {
+            let edge = ArtificialViscosity {
+                switch: Some(ViscositySwitch { alpha_min, decay }),
+                ..base
+            };
+            assert_eq!(edge.validate(), Ok(()), "α_min {alpha_min}, ℓ {decay}");
+        }
+        refused(
+            ArtificialViscosity {
+                alpha: 0.0,
+                ..switched
+            },
+            "alpha",
+        );
+        for (alpha_min, decay, field) in [
+            (-0.01, 0.2, "switch alpha_min"),
+            (1.01, 0.2, "switch alpha_min"),
+            (0.1, 0.0, "switch decay"),
+            (0.1, 1.01, "switch decay"),
+        ] {
+            refused(
+                ArtificialViscosity {
+                    switch: Some(ViscositySwitch { alpha_min, decay }),
+                    ..base
+                },
+                field,
+            );
+        }
+        let with_penalty = |n1: f64, n2: f64, p_bar: f64| ArtificialViscosity {
+            interface_penalty: Some(InterfacePenalty { p_bar, n1, n2 }),
+            ..base
+        };
+        assert_eq!(with_penalty(12.0, 6.0, 0.0).validate(), Ok(()));
+        refused(with_penalty(12.0, 6.0, -1.0), "penalty p_bar");
+        refused(with_penalty(12.0, 6.0, f64::INFINITY), "penalty p_bar");
+        refused(with_penalty(6.0, 6.0, 1.0), "penalty exponents n1/n2");
+        refused(with_penalty(12.0, 0.0, 1.0), "penalty exponents n1/n2");
+        refused(
+            with_penalty(f64::INFINITY, 6.0, 1.0),
+            "penalty exponents n1/n2",
+        );
+    }
+
+    /// R = −ε Σ_{σ' > 0} σ'/ρ² n n^T: a state with one tensile principal stress along a
+    /// turned axis gives R along that axis only; a compressed state none.
+    #[test]
+    fn artificial_stress_takes_the_tensile_principal_stresses_only() {
+        let (angle, tension, compression, rho, epsilon) = (0.3f64, 4.0, -7.0, 2.0, 0.3);
+        let n = Vector::<2>::new(angle.cos(), angle.sin());
+        let t = Vector::<2>::new(-angle.sin(), angle.cos());
+        let sigma = n * n.transpose() * tension + t * t.transpose() * compression;
+        // σ = −pI + s: any split of σ into its mean and its deviator
+        let pressure = -0.5 * sigma.trace();
+        let deviatoric = sigma + Tensor::<2>::identity() * pressure;
+        let r = artificial_stress_of(pressure, &deviatoric, rho, epsilon);
+        let expected = n * n.transpose() * (-epsilon * tension / (rho * rho));
+        assert!((r - expected).norm() < 1e-14, "{r} against {expected}");
+        let compressed = artificial_stress_of(3.0, &Tensor::<3>::zeros(), rho, epsilon);
+        assert_eq!(compressed, Tensor::<3>::zeros());
+        // hydrostatic tension: every axis is tensile
+        let pulled = artificial_stress_of(-3.0, &Tensor::<3>::zeros(), rho, epsilon);
+        assert!((pulled + Tensor::<3>::identity() * (epsilon * 3.0 / 4.0)).norm() < 1e-14);
+    }
+
+    /// f = |∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h): compression without rotation, rotation without
+    /// compression, the hoop rate in the divergence, and the 3D curl's norm.
+    #[test]
+    fn balsara_factor_separates_compression_from_rotation() {
+        let (c, h) = (300.0, 0.01);
+        let noise = 1e-4 * c / h;
+        let compression = Tensor::<2>::identity() * -2.0;
+        assert_relative_eq!(
+            balsara_factor(&compression, 0.0, c, h),
+            4.0 / (4.0 + noise),
+            max_relative = 1e-14
+        );
+        let rotation = Tensor::<2>::new(0.0, -5.0, 5.0, 0.0);
+        assert_eq!(balsara_factor(&rotation, 0.0, c, h), 0.0);
+        // a planar divergence that the hoop rate cancels: no compression
+        let radial = Tensor::<2>::new(-1.5, 0.0, 0.0, 0.0);
+        assert_eq!(balsara_factor(&radial, 1.5, c, h), 0.0);
+        assert_relative_eq!(
+            balsara_factor(&radial, 0.5, c, h),
+            1.0 / (1.0 + noise),
+            max_relative = 1e-14
+        );
+        // 3D: ∇×v = (L_zy − L_yz, L_xz − L_zx, L_yx − L_xy) = (2, 4, 6)
+        let mixed = Tensor::<3>::new(1.0, -3.0, 2.0, 3.0, 2.0, -1.0, -2.0, 1.0, -6.0);
+        let curl = (2f64.powi(2) + 4f64.powi(2) + 6f64.powi(2)).sqrt();
+        assert_relative_eq!(
+            balsara_factor(&mixed, 0.0, c, h),
+            3.0 / (3.0 + curl + noise),
+            max_relative = 1e-14
+        );
+    }
+
+    /// Two interacting 2D particles of different materials with every property distinct
+    /// (mass, h, ρ, p, c, u, velocity; approaching), and four far away that interact with
+    /// nothing: passes over one particle among six read their partners directly, over two
+    /// they pack every source first (see `pairs::gather_at`).
+    fn approaching_pair(optional: OptionalFields) -> Particles<2> {
+        let particle =
+            |x: f64, y: f64, vx: f64, vy: f64, mass: f64, h: f64, rho: f64| ParticleInit {
+                position: Vector::<2>::new(x, y),
+                velocity: Vector::<2>::new(vx, vy),
+                mass,
+                smoothing_length: h,
+                density: rho,
+                internal_energy: 0.0,
+                material: 0,
+            };
+        let mut init = vec![
+            particle(0.0, 0.0, 1.0, 0.5, 0.3, 0.6, 1.2),
+            particle(0.4, 0.2, -0.8, -0.2, 0.5, 0.5, 2.1),
+        ];
+        init[1].material = 1;
+        for k in 0..4 {
+            init.push(particle(
+                100.0 + 10.0 * k as f64,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                0.5,
+                1.0,
+            ));
+        }
+        let mut p = Particles::new(&init, optional);
+        p.pressure[..2].copy_from_slice(&[3.0, 7.0]);
+        p.sound_speed[..2].copy_from_slice(&[2.0, 3.5]);
+        p.internal_energy[..2].copy_from_slice(&[5.0, 1.5]);
+        if optional.grad_h {
+            p.omega[..2].copy_from_slice(&[0.9, 1.15]);
+        }
+        p
+    }
+
+    fn kernel_pairs(p: &Particles<2>, kernel: &Kernel<2>, pair_kernel: PairKernel) -> KernelPairs {
+        let reach = match pair_kernel {
+            PairKernel::MeanH => PairReach::MeanH,
+            PairKernel::OwnH => PairReach::LargerH,
+        };
+        let support = kernel.support_radius(1.0);
+        let neighbours =
+            find_neighbours(&p.position, &p.smoothing_length, support, reach, p.n_real());
+        let mut pairs = KernelPairs::default();
+        let all: Vec<usize> = (0..p.n_real()).collect();
+        pairs.rebuild(p, &neighbours, kernel, pair_kernel, &all);
+        pairs
+    }
+
+    /// The Euler pair terms of [`compute_rates`] written out for particle 0 of
+    /// [`approaching_pair`] in each form: standard (mean h and grad-h, each energy equation)
+    /// and volume (continuity density), with conduction and the interface penalty; particle 1
+    /// takes the opposite force (momentum), and a pass over particle 1 alone gives what a pass
+    /// over both gives it.
+    #[test]
+    fn euler_pair_terms_are_the_equations_written_out() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let penalty = InterfacePenalty {
+            p_bar: 0.7,
+            n1: 4.0,
+            n2: 2.0,
+        };
+        let forms = [
+            (
+                OptionalFields::default(),
+                PairKernel::MeanH,
+                EnergyEquation::OwnPressure,
+                None,
+            ),
+            (
+                OptionalFields::default(),
+                PairKernel::MeanH,
+                EnergyEquation::Symmetric,
+                Some(penalty),
+            ),
+            (
+                OptionalFields {
+                    grad_h: true,
+                    ..OptionalFields::default()
+                },
+                PairKernel::OwnH,
+                EnergyEquation::OwnPressure,
+                None,
+            ),
+            (
+                OptionalFields {
+                    density_rate: true,
+                    ..OptionalFields::default()
+                },
+                PairKernel::MeanH,
+                EnergyEquation::OwnPressure,
+                Some(penalty),
+            ),
+        ];
+        for (optional, pair_kernel, energy, interface_penalty) in forms {
+            let form = format!("{optional:?} {pair_kernel:?} {energy:?} {interface_penalty:?}");
+            let viscosity = ArtificialViscosity {
+                interface_penalty,
+                ..distinct_viscosity()
+            };
+            let mut p = approaching_pair(optional);
+            let pairs = kernel_pairs(&p, &kernel, pair_kernel);
+            let mut books = vec![RateTotals::default(); 2];
+            let geometry = PairGeometry::Planar;
+            compute_rates(
+                &mut p,
+                &pairs,
+                &viscosity,
+                energy,
+                geometry,
+                &[0, 1],
+                &mut books,
+            );
+
+            let (m, h, rho) = (&p.mass, &p.smoothing_length, &p.density);
+            let (pr, c, u) = (&p.pressure, &p.sound_speed, &p.internal_energy);
+            let dx = p.position[0] - p.position[1];
+            let r = dx.norm();
+            let (h_mean, rho_mean) = (0.5 * (h[0] + h[1]), 0.5 * (rho[0] + rho[1]));
+            let (dw_i, dw_j) = match pair_kernel {
+                PairKernel::MeanH => (kernel.derivative(r, h_mean), kernel.derivative(r, h_mean)),
+                PairKernel::OwnH => (kernel.derivative(r, h[0]), kernel.derivative(r, h[1])),
+            };
+            let v_r = (p.velocity[0] - p.velocity[1]).dot(&dx) / r;
+            assert!(
+                v_r < 0.0 && dw_i < 0.0 && dw_j < 0.0,
+                "{form}: the pair approaches"
+            );
+            let mu = h_mean * v_r * r / (r * r + 0.03 * h_mean * h_mean);
+            let pi = (-0.8 * 0.5 * (c[0] + c[1]) * mu + 1.7 * mu * mu) / rho_mean;
+            let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
+            // the pressure terms m_j P_i dW_i and m_j P_j dW_j of each form
+            let (own, partner) = if optional.density_rate {
+                (pr[0] / (rho[0] * rho[1]), pr[1] / (rho[1] * rho[0]))
+            } else {
+                (
+                    pr[0] / (omega(0) * rho[0] * rho[0]),
+                    pr[1] / (omega(1) * rho[1] * rho[1]),
+                )
+            };
+            let (own, partner) = (m[1] * own * dw_i, m[1] * partner * dw_j);
+            let viscous = m[1] * pi * 0.5 * (dw_i + dw_j);
+            let mut force = -(own + partner + viscous) * dx / r;
+            if interface_penalty.is_some() {
+                let pe: f64 = h_mean / r;
+                assert!(pe > 1.0, "{form}: the penalty acts");
+                let push = 0.7 * (pe.powi(4) - pe.powi(2)) / (r * r);
+                force += dx * push * 2.0 * m[0] * m[1] / (m[0] + m[1]) / m[0];
+            }
+            let work = match energy {
+                EnergyEquation::OwnPressure => own,
+                EnergyEquation::Symmetric => 0.5 * (own + partner),
+            };
+            let conduction =
+                0.4 * ((pr[0] - pr[1]).abs() / rho_mean).sqrt() * (u[0] - u[1]) / rho_mean;
+            let heating = 0.5 * viscous * v_r;
+            let energy_rate = heating + work * v_r + m[1] * 0.5 * (dw_i + dw_j) * conduction;
+            let tolerance = 1e-13;
+            assert!(
+                (p.acceleration[0] - force).norm() <= tolerance * force.norm(),
+                "{form}: {} against {force}",
+                p.acceleration[0]
+            );
+            assert_relative_eq!(p.energy_rate[0], energy_rate, max_relative = tolerance);
+            assert_relative_eq!(
+                p.signal_speed[0],
+                c[0] + c[1] - 3.0 * v_r,
+                max_relative = tolerance
+            );
+            assert_relative_eq!(
+                books[0].viscous_heating,
+                m[0] * heating,
+                max_relative = tolerance
+            );
+            assert_eq!(books[0].wall_force, Vector::<2>::zeros());
+            if optional.density_rate {
+                let continuity = rho[0] * m[1] / rho[1] * dw_i * v_r;
+                assert_relative_eq!(p.density_rate[0], continuity, max_relative = tolerance);
+            }
+            if optional.grad_h {
+                let density_rate = m[1] * dw_i * v_r / omega(0);
+                let smoothing_rate = -h[0] * density_rate / (2.0 * rho[0]);
+                assert_relative_eq!(
+                    p.smoothing_rate[0],
+                    smoothing_rate,
+                    max_relative = tolerance
+                );
+            }
+            let momentum = p.acceleration[0] * m[0] + p.acceleration[1] * m[1];
+            assert!(
+                momentum.norm() <= tolerance * force.norm() * m[0],
+                "{form}: {momentum}"
+            );
+            for k in 2..p.n_real() {
+                assert_eq!(p.acceleration[k], Vector::<2>::zeros());
+            }
+
+            let (alone, both) = (p.clone(), p.clone());
+            let mut alone = alone;
+            alone.acceleration[1] = Vector::<2>::zeros();
+            let mut book = vec![RateTotals::default()];
+            compute_rates(
+                &mut alone,
+                &pairs,
+                &viscosity,
+                energy,
+                geometry,
+                &[1],
+                &mut book,
+            );
+            assert_eq!(alone.acceleration[1], both.acceleration[1], "{form}");
+            assert_eq!(alone.energy_rate[1], both.energy_rate[1], "{form}");
+            assert_eq!(book[0], books[1], "{form}");
+        }
+    }
+
+    /// The velocity gradient L_0 = m_1 w (v_1 − v_0) ⊗ ∇_0 W and the stress pair terms of
+    /// [`add_stress_rates`] written out for particle 0 of [`approaching_pair`], standard (w =
+    /// 1/(Ω_0 ρ_0), grad-h) and volume form (w = 1/ρ_1), with Monaghan's artificial stress
+    /// (both particles in tension, so that R ≠ 0) and without; the heating s:ε̇/ρ and the
+    /// stress rate from L; momentum.
+    #[test]
+    fn stress_pair_terms_are_the_equations_written_out() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let stress = OptionalFields {
+            stress: true,
+            ..OptionalFields::default()
+        };
+        let forms = [
+            (
+                OptionalFields {
+                    grad_h: true,
+                    ..stress
+                },
+                PairKernel::OwnH,
+                None,
+            ),
+            (
+                OptionalFields {
+                    density_rate: true,
+                    ..stress
+                },
+                PairKernel::MeanH,
+                Some(ArtificialStress {
+                    epsilon: 0.3,
+                    exponent: 3.0,
+                }),
+            ),
+        ];
+        let shear_modulus = [40.0, 25.0];
+        for (optional, pair_kernel, artificial) in forms {
+            let form = format!("{optional:?} {pair_kernel:?} {artificial:?}");
+            let mut p = approaching_pair(optional);
+            // tension: p < 0 along with a shear
+            p.pressure[..2].copy_from_slice(&[-3.0, -2.0]);
+            p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
+            p.deviatoric_stress[1] = Tensor::<2>::new(-0.6, 1.1, 1.1, 0.9);
+            let pairs = kernel_pairs(&p, &kernel, pair_kernel);
+            let geometry = PairGeometry::Planar;
+            let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
+            let mut books = vec![RateTotals::default(); 2];
+            add_stress_rates(
+                &mut p,
+                &pairs,
+                &kernel,
+                &gradients,
+                &shear_modulus,
+                artificial,
+                geometry,
+                None,
+                &[0, 1],
+                &mut books,
+            );
+
+            let (m, h, rho) = (&p.mass, &p.smoothing_length, &p.density);
+            let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
+            let dx = p.position[0] - p.position[1];
+            let r = dx.norm();
+            let h_mean = 0.5 * (h[0] + h[1]);
+            let (dw_i, dw_j) = match pair_kernel {
+                PairKernel::MeanH => (kernel.derivative(r, h_mean), kernel.derivative(r, h_mean)),
+                PairKernel::OwnH => (kernel.derivative(r, h[0]), kernel.derivative(r, h[1])),
+            };
+            let weight = if optional.density_rate {
+                1.0 / rho[1]
+            } else {
+                1.0 / (omega(0) * rho[0])
+            };
+            let gradient =
+                (p.velocity[1] - p.velocity[0]) * (dx / r).transpose() * (m[1] * weight * dw_i);
+            assert!(
+                (gradients[0] - gradient).norm() <= 1e-13 * gradient.norm(),
+                "{form}: L {} against {gradient}",
+                gradients[0]
+            );
+            let s = &p.deviatoric_stress;
+            let (own, partner) = if optional.density_rate {
+                (s[0] / (rho[0] * rho[1]), s[1] / (rho[1] * rho[0]))
+            } else {
+                (
+                    s[0] / (omega(0) * rho[0] * rho[0]),
+                    s[1] / (omega(1) * rho[1] * rho[1]),
+                )
+            };
+            let mut force = (own * dw_i + partner * dw_j) * (dx / r) * m[1];
+            let mut heating = 0.0;
+            if let Some(a) = artificial {
+                let spacing = |k: usize| (m[k] / rho[k]).sqrt();
+                let f =
+                    kernel.value(r, h_mean) / kernel.value(0.5 * (spacing(0) + spacing(1)), h_mean);
+                let tensile = |k: usize| artificial_stress_of(p.pressure[k], &s[k], rho[k], 0.3);
+                assert!(tensile(0).norm() > 0.0 && tensile(1).norm() > 0.0, "{form}");
+                let repulsion = (tensile(0) + tensile(1))
+                    * (dx / r)
+                    * (m[1] * f.powf(a.exponent) * 0.5 * (dw_i + dw_j));
+                force += repulsion;
+                heating = -0.5 * repulsion.dot(&(p.velocity[0] - p.velocity[1]));
+            }
+            // compute_rates did not run: the accelerations and energy rates are this pass's
+            assert!(
+                (p.acceleration[0] - force).norm() <= 1e-13 * force.norm(),
+                "{form}: {} against {force}",
+                p.acceleration[0]
+            );
+            let strain_rate = 0.5 * (gradient + gradient.transpose());
+            let deviatoric_heating = s[0].component_mul(&strain_rate).sum() / rho[0];
+            assert_relative_eq!(
+                p.energy_rate[0],
+                deviatoric_heating + heating,
+                max_relative = 1e-12
+            );
+            assert_relative_eq!(
+                books[0].artificial_stress_heating,
+                m[0] * heating,
+                max_relative = 1e-12
+            );
+            let expected_rate = crate::strength::jaumann_rate(40.0, &s[0], &gradients[0], 0.0);
+            assert_eq!(p.stress_rate[0], expected_rate, "{form}");
+            assert_eq!(
+                p.strain_rate[0],
+                crate::strength::equivalent_strain_rate(
+                    &(0.5 * (gradients[0] + gradients[0].transpose())),
+                    0.0
+                )
+            );
+            let momentum = p.acceleration[0] * m[0] + p.acceleration[1] * m[1];
+            assert!(
+                momentum.norm() <= 1e-13 * force.norm() * m[0],
+                "{form}: {momentum}"
+            );
+        }
+    }
+
+    /// A fluid (G = 0) gets no stress rate.
+    #[test]
+    fn a_fluid_particle_gets_no_stress_rate() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let optional = OptionalFields {
+            stress: true,
+            ..OptionalFields::default()
+        };
+        let mut p = approaching_pair(optional);
+        p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
+        let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
+        let geometry = PairGeometry::Planar;
+        let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
+        let mut books = vec![RateTotals::default(); 2];
+        let shear_modulus = [0.0, 25.0];
+        add_stress_rates(
+            &mut p,
+            &pairs,
+            &kernel,
+            &gradients,
+            &shear_modulus,
+            None,
+            geometry,
+            None,
+            &[0, 1],
+            &mut books,
+        );
+        assert_eq!(p.stress_rate[0], Tensor::<2>::zeros());
+        assert!(p.stress_rate[1].norm() > 0.0);
+    }
+
+    /// A 9 × 9 lattice of spacing 0.1 shaken by up to 0.03 in each direction, masses of about
+    /// ρ = 1.5 varied by up to ±10 %, every h = 0.13.
+    fn shaken_lattice() -> Particles<2> {
+        let mut random = crate::random::SplitMix64::new(7);
+        let mut init = Vec::new();
+        for a in 0..9 {
+            for b in 0..9 {
+                let mut shake = || 0.03 * (2.0 * random.uniform() - 1.0);
+                let position = Vector::<2>::new(0.1 * a as f64 + shake(), 0.1 * b as f64 + shake());
+                init.push(ParticleInit {
+                    position,
+                    velocity: Vector::<2>::zeros(),
+                    mass: 1.5e-2 * (1.0 + 0.2 * (random.uniform() - 0.5)),
+                    smoothing_length: 0.13,
+                    density: 1.5,
+                    internal_energy: 0.0,
+                    material: 0,
+                });
+            }
+        }
+        Particles::new(&init, OptionalFields::default())
+    }
+
+    /// Σ_j m_j W(r, h) over every particle by brute force (the particle itself included).
+    fn brute_density(p: &Particles<2>, kernel: &Kernel<2>, i: usize, h: f64) -> f64 {
+        (0..p.n_real())
+            .map(|j| p.mass[j] * kernel.value((p.position[i] - p.position[j]).norm(), h))
+            .sum()
+    }
+
+    /// Grad-h's root against brute-force sums: ρ = Σ_j m_j W(r_ij, h) at the returned h,
+    /// h = η (m/ρ)^(1/2) within the tolerance, Ω = 1 + h/(2ρ) ∂ρ/∂h by central differences;
+    /// the same root from a guess far below (the doubling and bisection fallbacks) and far
+    /// above; a root beyond the reach reported as such.
+    #[test]
+    fn grad_h_solves_for_the_smoothing_length_of_its_own_density() {
+        let p = shaken_lattice();
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let (eta, tolerance) = (1.3, 1e-10);
+        let reach = vec![0.4; p.n_real()];
+        let neighbours = find_neighbours(
+            &p.position,
+            &reach,
+            kernel.support_radius(1.0),
+            PairReach::LargerH,
+            p.n_real(),
+        );
+        let which = [40, 0, 13];
+        let solve = |guess: f64, reach: &[f64]| {
+            let guesses = vec![guess; p.n_real()];
+            solve_smoothing_lengths(
+                &p,
+                &neighbours,
+                &kernel,
+                (eta, tolerance),
+                (&guesses, reach),
+                &which,
+            )
+        };
+        let solutions = solve(0.13, &reach);
+        for (&i, solution) in which.iter().zip(&solutions) {
+            let SmoothingSolution::Converged { h, density, omega } = *solution else {
+                panic!("particle {i}: {solution:?}");
+            };
+            assert_relative_eq!(
+                density,
+                brute_density(&p, &kernel, i, h),
+                max_relative = 1e-12
+            );
+            assert_relative_eq!(h, eta * (p.mass[i] / density).sqrt(), max_relative = 1e-9);
+            let step = 1e-6 * h;
+            let slope = (brute_density(&p, &kernel, i, h + step)
+                - brute_density(&p, &kernel, i, h - step))
+                / (2.0 * step);
+            assert_relative_eq!(
+                omega,
+                1.0 + h * slope / (2.0 * density),
+                max_relative = 1e-7
+            );
+            for guess in [0.01, 0.39] {
+                let SmoothingSolution::Converged { h: again, .. } =
+                    solve(guess, &reach)[which.iter().position(|&k| k == i).unwrap()]
+                else {
+                    panic!("particle {i} from {guess}");
+                };
+                assert_relative_eq!(again, h, max_relative = 1e-9);
+            }
+        }
+        let SmoothingSolution::Converged { h: root, .. } = solutions[0] else {
+            unreachable!()
+        };
+        let short = vec![0.5 * root; p.n_real()];
+        match solve(0.13, &short)[0] {
+            SmoothingSolution::BeyondReach { h } => assert!(h > 0.5 * root, "{h}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// Summation density against brute force (self term at h_i, partners at h̄_ij); the
+    /// kernel-gradient sum g_i = Σ_j V_j ∇_i W_ij antisymmetric in the pair, so Σ_i V_i g_i = 0
+    /// for any arrangement, while a particle at the lattice's edge gets a g pointing into it.
+    #[test]
+    fn density_and_kernel_gradient_sums_against_brute_force() {
+        let mut p = shaken_lattice();
+        for (k, h) in p.smoothing_length.iter_mut().enumerate() {
+            *h *= 1.0 + 0.1 * ((k % 5) as f64 - 2.0) / 2.0;
+        }
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let neighbours = find_neighbours(
+            &p.position,
+            &p.smoothing_length,
+            kernel.support_radius(1.0),
+            PairReach::MeanH,
+            p.n_real(),
+        );
+        let density = pairs::gather(&SummationDensity { kernel: &kernel }, &p, &neighbours);
+        for i in 0..p.n_real() {
+            let h_i = p.smoothing_length[i];
+            let brute: f64 = (0..p.n_real())
+                .map(|j| {
+                    let h = if i == j {
+                        h_i
+                    } else {
+                        0.5 * (h_i + p.smoothing_length[j])
+                    };
+                    p.mass[j] * kernel.value((p.position[i] - p.position[j]).norm(), h)
+                })
+                .sum();
+            assert_relative_eq!(density[i], brute, max_relative = 1e-13);
+        }
+        p.density.copy_from_slice(&density);
+        let sums = KernelGradientSum {
+            kernel: &kernel,
+            axisymmetric: false,
+        };
+        let g = pairs::gather(&sums, &p, &neighbours);
+        let volume = |k: usize| p.mass[k] / p.density[k];
+        let total: Vector<2> = (0..p.n_real()).map(|i| g[i] * volume(i)).sum();
+        let scale: f64 = (0..p.n_real()).map(|i| g[i].norm() * volume(i)).sum();
+        assert!(
+            scale > 0.0 && total.norm() <= 1e-13 * scale,
+            "{total} of {scale}"
+        );
+        // particle 4 sits on the side x ≈ 0, its partners at x > 0: ∇_i W points towards
+        // each, and the sum into the lattice, about 1/(2h) there (−Σ V g·n = ½ per unit area)
+        assert!(g[4][0] > 1.0, "{}", g[4]);
+        // rings: the same sums with each partner's volume divided by 2π r
+        let rings = pairs::gather(
+            &KernelGradientSum {
+                kernel: &kernel,
+                axisymmetric: true,
+            },
+            &p,
+            &neighbours,
+        );
+        let i = 40;
+        let expected: Vector<2> = neighbours
+            .of(i)
+            .map(|j| {
+                let dx = p.position[i] - p.position[j];
+                let h = 0.5 * (p.smoothing_length[i] + p.smoothing_length[j]);
+                kernel.gradient(&dx, dx.norm(), h) * volume(j)
+                    / (2.0 * std::f64::consts::PI * p.position[j][0])
+            })
+            .sum();
+        assert!((rings[i] - expected).norm() <= 1e-13 * expected.norm());
+    }
+
+    /// The kernel links of some particles equal those of all, row by row; coincident
+    /// particles and partners beyond the kernel's reach get none.
+    #[test]
+    fn kernel_pairs_of_some_particles_are_those_of_all() {
+        let mut p = shaken_lattice();
+        // particle 1 onto particle 0
+        p.position[1] = p.position[0];
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        // lists that reach twice as far as the kernel
+        let wide = vec![0.26; p.n_real()];
+        let neighbours = find_neighbours(
+            &p.position,
+            &wide,
+            kernel.support_radius(1.0),
+            PairReach::MeanH,
+            p.n_real(),
+        );
+        let links = |pairs: &KernelPairs, i: usize| {
+            let mut links = Vec::new();
+            pairs::Partners::visit(pairs, i, |j, link: &KernelLink| {
+                links.push((j, link.r, link.dw_i, link.dw_j))
+            });
+            links
+        };
+        let all: Vec<usize> = (0..p.n_real()).collect();
+        let mut every = KernelPairs::default();
+        every.rebuild(&p, &neighbours, &kernel, PairKernel::MeanH, &all);
+        let some = [57, 3, 40, 0];
+        let mut part = KernelPairs::default();
+        part.rebuild(&p, &neighbours, &kernel, PairKernel::MeanH, &some);
+        for i in some {
+            assert_eq!(links(&part, i), links(&every, i), "particle {i}");
+        }
+        for i in all {
+            let expected: Vec<usize> = neighbours
+                .of(i)
+                .filter(|&j| {
+                    let r = (p.position[i] - p.position[j]).norm();
+                    r > 0.0 && kernel.reaches(r, 0.13)
+                })
+                .collect();
+            let found: Vec<usize> = links(&every, i).into_iter().map(|l| l.0).collect();
+            assert_eq!(found, expected, "particle {i}");
+            assert!(neighbours.of(i).count() > found.len() + 1, "particle {i}");
+        }
+    }
 
     /// The switch's step against its equation: without a source α relaxes to α_min as
     /// exp(−ℓ c t/h); under steady compression S it settles at the balance
