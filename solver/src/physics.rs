@@ -2000,7 +2000,7 @@ mod tests {
             p.n_real(),
         );
         let density = pairs::gather(&SummationDensity { kernel: &kernel }, &p, &neighbours);
-        for i in 0..p.n_real() {
+        for (i, &summed) in density.iter().enumerate() {
             let h_i = p.smoothing_length[i];
             let brute: f64 = (0..p.n_real())
                 .map(|j| {
@@ -2012,7 +2012,7 @@ mod tests {
                     p.mass[j] * kernel.value((p.position[i] - p.position[j]).norm(), h)
                 })
                 .sum();
-            assert_relative_eq!(density[i], brute, max_relative = 1e-13);
+            assert_relative_eq!(summed, brute, max_relative = 1e-13);
         }
         p.density.copy_from_slice(&density);
         let sums = KernelGradientSum {
