@@ -1285,6 +1285,13 @@ mod tests {
         }
     }
 
+    /// The energy equations' names are the values the problems' `energy` parameter takes.
+    #[test]
+    fn energy_equations_are_named_as_the_problems_take_them() {
+        let names: Vec<&str> = EnergyEquation::ALL.iter().map(|e| e.name()).collect();
+        assert_eq!(names, ["own-pressure", "symmetric"]);
+    }
+
     /// Monaghan's Π = (−α c̄ μ + β μ²)/ρ̄, μ = h v·x/(r² + η²h²), written out term by term.
     #[test]
     fn monaghan_viscosity_is_its_formula_for_approaching_pairs_and_zero_otherwise() {
@@ -1445,7 +1452,7 @@ mod tests {
     /// turned axis gives R along that axis only; a compressed state none.
     #[test]
     fn artificial_stress_takes_the_tensile_principal_stresses_only() {
-        let (angle, tension, compression, rho, epsilon) = (0.3f64, 4.0, -7.0, 2.0, 0.3);
+        let (angle, tension, compression, rho, epsilon) = (0.3f64, 4.0, -7.0, 1.7, 0.3);
         let n = Vector::<2>::new(angle.cos(), angle.sin());
         let t = Vector::<2>::new(-angle.sin(), angle.cos());
         let sigma = n * n.transpose() * tension + t * t.transpose() * compression;
@@ -1459,7 +1466,7 @@ mod tests {
         assert_eq!(compressed, Tensor::<3>::zeros());
         // hydrostatic tension: every axis is tensile
         let pulled = artificial_stress_of(-3.0, &Tensor::<3>::zeros(), rho, epsilon);
-        assert!((pulled + Tensor::<3>::identity() * (epsilon * 3.0 / 4.0)).norm() < 1e-14);
+        assert!((pulled + Tensor::<3>::identity() * (epsilon * 3.0 / (rho * rho))).norm() < 1e-14);
     }
 
     /// f = |∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h): compression without rotation, rotation without
@@ -1601,6 +1608,14 @@ mod tests {
                 ..distinct_viscosity()
             };
             let mut p = approaching_pair(optional);
+            // in the grad-h form each particle carries its own α and Balsara factor, which
+            // scale Π by (α_0 + α_1)/(2α) and (f_0 + f_1)/2
+            let mut pi_scale = 1.0;
+            if optional.grad_h {
+                p.viscosity_alpha = vec![0.5, 0.3, 0.8, 0.8, 0.8, 0.8];
+                p.balsara_factor = vec![0.9, 0.4, 1.0, 1.0, 1.0, 1.0];
+                pi_scale = (0.5 + 0.3) / (2.0 * 0.8) * (0.9 + 0.4) / 2.0;
+            }
             let pairs = kernel_pairs(&p, &kernel, pair_kernel);
             let mut books = vec![RateTotals::default(); 2];
             let geometry = PairGeometry::Planar;
@@ -1629,7 +1644,7 @@ mod tests {
                 "{form}: the pair approaches"
             );
             let mu = h_mean * v_r * r / (r * r + 0.03 * h_mean * h_mean);
-            let pi = (-0.8 * 0.5 * (c[0] + c[1]) * mu + 1.7 * mu * mu) / rho_mean;
+            let pi = (-0.8 * 0.5 * (c[0] + c[1]) * mu + 1.7 * mu * mu) / rho_mean * pi_scale;
             let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
             // the pressure terms m_j P_i dW_i and m_j P_j dW_j of each form
             let (own, partner) = if optional.density_rate {
@@ -1851,6 +1866,118 @@ mod tests {
                 "{form}: {momentum}"
             );
         }
+    }
+
+    /// A particle whose only partner is its own mirror image across a wall: all its force is
+    /// the wall's, booked as m a in both passes; the totals add field by field.
+    #[test]
+    fn a_wall_image_force_is_booked_as_the_walls() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let optional = OptionalFields {
+            stress: true,
+            ..OptionalFields::default()
+        };
+        let mut p = approaching_pair(optional);
+        // particle 1 far away, particle 0 mirrored across the wall x = 0.15
+        p.position[1] = Vector::<2>::new(50.0, 0.0);
+        p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
+        p.push_image(
+            0,
+            Vector::<2>::new(-1.0, 1.0),
+            Vector::<2>::new(0.3, 0.0),
+            true,
+        );
+        let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
+        let geometry = PairGeometry::Planar;
+        let mut books = vec![RateTotals::default(); 2];
+        let viscosity = distinct_viscosity();
+        let energy = EnergyEquation::OwnPressure;
+        compute_rates(
+            &mut p,
+            &pairs,
+            &viscosity,
+            energy,
+            geometry,
+            &[0, 1],
+            &mut books,
+        );
+        let pushed = p.acceleration[0] * p.mass[0];
+        assert!(pushed[0] < 0.0, "the wall pushes back: {pushed}");
+        assert!((books[0].wall_force - pushed).norm() <= 1e-14 * pushed.norm());
+        let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
+        let mut stress_books = vec![RateTotals::default(); 2];
+        let before = p.acceleration[0];
+        add_stress_rates(
+            &mut p,
+            &pairs,
+            &kernel,
+            &gradients,
+            &[40.0, 25.0],
+            None,
+            geometry,
+            None,
+            &[0, 1],
+            &mut stress_books,
+        );
+        let stress_push = (p.acceleration[0] - before) * p.mass[0];
+        assert!(stress_push.norm() > 0.0);
+        let booked = stress_books[0].wall_force;
+        assert!((booked - stress_push).norm() <= 1e-12 * stress_push.norm());
+
+        let mut total = books[0];
+        let other = RateTotals {
+            wall_force: Vector::<2>::new(0.5, -2.0),
+            viscous_heating: 3.0,
+            artificial_stress_heating: 5.0,
+            hourglass_heating: 7.0,
+            transmitted_power: 11.0,
+        };
+        total += &other;
+        assert_eq!(total.wall_force, books[0].wall_force + other.wall_force);
+        assert_eq!(total.viscous_heating, books[0].viscous_heating + 3.0);
+        assert_eq!(
+            total.artificial_stress_heating,
+            books[0].artificial_stress_heating + 5.0
+        );
+        assert_eq!(total.hourglass_heating, books[0].hourglass_heating + 7.0);
+        assert_eq!(total.transmitted_power, books[0].transmitted_power + 11.0);
+    }
+
+    /// A fluid particle (G = 0) carries no artificial stress, even in tension, and gets no
+    /// stress rate.
+    #[test]
+    fn a_fluid_particle_gets_no_artificial_stress() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let optional = OptionalFields {
+            stress: true,
+            ..OptionalFields::default()
+        };
+        let mut p = approaching_pair(optional);
+        p.pressure[0] = -3.0;
+        p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
+        let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
+        let geometry = PairGeometry::Planar;
+        let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
+        let shear_modulus = [0.0, 25.0];
+        let accelerations = [None, Some(ArtificialStress::default())].map(|artificial| {
+            let mut q = p.clone();
+            let mut books = vec![RateTotals::default(); 2];
+            add_stress_rates(
+                &mut q,
+                &pairs,
+                &kernel,
+                &gradients,
+                &shear_modulus,
+                artificial,
+                geometry,
+                None,
+                &[0, 1],
+                &mut books,
+            );
+            q.acceleration[0]
+        });
+        // particle 1 is compressed (p = 7, s = 0): its R is zero too
+        assert_eq!(accelerations[0], accelerations[1]);
     }
 
     /// A fluid (G = 0) gets no stress rate.
@@ -2115,6 +2242,10 @@ mod tests {
         let compression = 3e6;
         let settled = switch.relax(0.1, 1.0, -compression, c_over_h, 1.0);
         let balance = (0.1 * 0.2 * c_over_h + compression) / (0.2 * c_over_h + compression);
+        assert!((settled - balance).abs() < 1e-14);
+        // the same with α_max = 2: the source drives α towards α_max, not towards 1
+        let settled = switch.relax(0.1, 2.0, -compression, c_over_h, 1.0);
+        let balance = (0.1 * 0.2 * c_over_h + 2.0 * compression) / (0.2 * c_over_h + compression);
         assert!((settled - balance).abs() < 1e-14);
         // expansion is no source
         assert_eq!(
