@@ -16,6 +16,11 @@
 #   scripts/mutants.sh --file solver/src/eos/jwl.rs --iterate
 #
 # Results land in mutants.out/ (caught.txt, missed.txt, timeout.txt, unviable.txt).
+#
+# A large file in parts: `--shard 0/3 --sharding round-robin`, and so on. `--iterate` drops the
+# caught before it shards (so it picks another part); rerun a part's missed by name instead:
+#
+#   scripts/mutants.sh --file F -F "$(python3 -c 'import re,sys; print("|".join("^"+re.escape(l.strip())+"$" for l in open(sys.argv[1]) if l.strip()))' mutants.out/missed.txt)" -C --lib -C --test=NAME
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v cargo-mutants >/dev/null 2>&1 || cargo install cargo-mutants --locked
