@@ -1556,6 +1556,33 @@ mod tests {
         pairs
     }
 
+    /// The velocity gradients of particles 0 and 1 (planar), and the stress pass over them
+    /// with `shear_modulus` per material: the gradients and the pass's totals.
+    fn stress_pass(
+        p: &mut Particles<2>,
+        pairs: &KernelPairs,
+        kernel: &Kernel<2>,
+        shear_modulus: &[f64],
+        artificial: Option<ArtificialStress>,
+    ) -> (Vec<Tensor<2>>, Vec<RateTotals<2>>) {
+        let geometry = PairGeometry::Planar;
+        let gradients = velocity_gradients(p, pairs, geometry, &[0, 1]);
+        let mut books = vec![RateTotals::default(); 2];
+        add_stress_rates(
+            p,
+            pairs,
+            kernel,
+            &gradients,
+            shear_modulus,
+            artificial,
+            geometry,
+            None,
+            &[0, 1],
+            &mut books,
+        );
+        (gradients, books)
+    }
+
     /// The Euler pair terms of [`compute_rates`] written out for particle 0 of
     /// [`approaching_pair`] in each form: standard (mean h and grad-h, each energy equation)
     /// and volume (continuity density), with conduction and the interface penalty; particle 1
@@ -1773,21 +1800,8 @@ mod tests {
             p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
             p.deviatoric_stress[1] = Tensor::<2>::new(-0.6, 1.1, 1.1, 0.9);
             let pairs = kernel_pairs(&p, &kernel, pair_kernel);
-            let geometry = PairGeometry::Planar;
-            let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
-            let mut books = vec![RateTotals::default(); 2];
-            add_stress_rates(
-                &mut p,
-                &pairs,
-                &kernel,
-                &gradients,
-                &shear_modulus,
-                artificial,
-                geometry,
-                None,
-                &[0, 1],
-                &mut books,
-            );
+            let (gradients, books) =
+                stress_pass(&mut p, &pairs, &kernel, &shear_modulus, artificial);
 
             let (m, h, rho) = (&p.mass, &p.smoothing_length, &p.density);
             let omega = |k: usize| p.omega.get(k).copied().unwrap_or(1.0);
@@ -1904,21 +1918,8 @@ mod tests {
         let pushed = p.acceleration[0] * p.mass[0];
         assert!(pushed[0] < 0.0, "the wall pushes back: {pushed}");
         assert!((books[0].wall_force - pushed).norm() <= 1e-14 * pushed.norm());
-        let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
-        let mut stress_books = vec![RateTotals::default(); 2];
         let before = p.acceleration[0];
-        add_stress_rates(
-            &mut p,
-            &pairs,
-            &kernel,
-            &gradients,
-            &[40.0, 25.0],
-            None,
-            geometry,
-            None,
-            &[0, 1],
-            &mut stress_books,
-        );
+        let (_, stress_books) = stress_pass(&mut p, &pairs, &kernel, &[40.0, 25.0], None);
         let stress_push = (p.acceleration[0] - before) * p.mass[0];
         assert!(stress_push.norm() > 0.0);
         let booked = stress_books[0].wall_force;
@@ -1946,7 +1947,7 @@ mod tests {
     /// A fluid particle (G = 0) carries no artificial stress, even in tension, and gets no
     /// stress rate.
     #[test]
-    fn a_fluid_particle_gets_no_artificial_stress() {
+    fn a_fluid_particle_gets_no_artificial_stress_and_no_stress_rate() {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
         let optional = OptionalFields {
             stress: true,
@@ -1956,59 +1957,16 @@ mod tests {
         p.pressure[0] = -3.0;
         p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
         let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
-        let geometry = PairGeometry::Planar;
-        let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
         let shear_modulus = [0.0, 25.0];
-        let accelerations = [None, Some(ArtificialStress::default())].map(|artificial| {
+        let runs = [None, Some(ArtificialStress::default())].map(|artificial| {
             let mut q = p.clone();
-            let mut books = vec![RateTotals::default(); 2];
-            add_stress_rates(
-                &mut q,
-                &pairs,
-                &kernel,
-                &gradients,
-                &shear_modulus,
-                artificial,
-                geometry,
-                None,
-                &[0, 1],
-                &mut books,
-            );
-            q.acceleration[0]
+            stress_pass(&mut q, &pairs, &kernel, &shear_modulus, artificial);
+            q
         });
         // particle 1 is compressed (p = 7, s = 0): its R is zero too
-        assert_eq!(accelerations[0], accelerations[1]);
-    }
-
-    /// A fluid (G = 0) gets no stress rate.
-    #[test]
-    fn a_fluid_particle_gets_no_stress_rate() {
-        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
-        let optional = OptionalFields {
-            stress: true,
-            ..OptionalFields::default()
-        };
-        let mut p = approaching_pair(optional);
-        p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
-        let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
-        let geometry = PairGeometry::Planar;
-        let gradients = velocity_gradients(&p, &pairs, geometry, &[0, 1]);
-        let mut books = vec![RateTotals::default(); 2];
-        let shear_modulus = [0.0, 25.0];
-        add_stress_rates(
-            &mut p,
-            &pairs,
-            &kernel,
-            &gradients,
-            &shear_modulus,
-            None,
-            geometry,
-            None,
-            &[0, 1],
-            &mut books,
-        );
-        assert_eq!(p.stress_rate[0], Tensor::<2>::zeros());
-        assert!(p.stress_rate[1].norm() > 0.0);
+        assert_eq!(runs[0].acceleration[0], runs[1].acceleration[0]);
+        assert_eq!(runs[0].stress_rate[0], Tensor::<2>::zeros());
+        assert!(runs[0].stress_rate[1].norm() > 0.0);
     }
 
     /// A 9 × 9 lattice of spacing 0.1 shaken by up to 0.03 in each direction, masses of about
