@@ -824,13 +824,13 @@ pub fn contains(shape: &Shape, x: &[f64]) -> bool {
             .sum::<f64>()
             .sqrt()
     };
-    let all: Vec<usize> = (0..d).collect();
+    let all = &[0, 1, 2][..d];
     match shape {
         Shape::Box { min, max } => (0..d).all(|a| min[a] <= x[a] && x[a] < max[a]),
         Shape::Layer { bottom, top } => *bottom <= x[d - 1] && x[d - 1] < *top,
-        Shape::Sphere { centre, radius, .. } => distance(centre, &all) < radius.unwrap_or(0.0),
+        Shape::Sphere { centre, radius, .. } => distance(centre, all) < radius.unwrap_or(0.0),
         Shape::Hemisphere { centre, radius, .. } => {
-            x[d - 1] >= centre[d - 1] && distance(centre, &all) < radius.unwrap_or(0.0)
+            x[d - 1] >= centre[d - 1] && distance(centre, all) < radius.unwrap_or(0.0)
         }
         Shape::Annulus {
             centre,
