@@ -99,22 +99,26 @@ pub struct Wetting {
     pub liquid: Liquid,
 }
 
-/// One listed pair: its tangential spring while the two touch, and its bridge if it has one.
+/// One listed pair: its normal dashpot, its tangential spring while the two touch, and its
+/// bridge if it has one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Pair {
     i: u32,
     j: u32,
     touching: bool,
+    /// The normal dashpot 2ζ√(k_n m_eff), m_eff = m_i m_j/(m_i + m_j) (N·s/m).
+    dashpot: f64,
     tangential: Vector<2>,
     bridge: Option<Bridge>,
 }
 
 impl Pair {
-    fn new(i: u32, j: u32) -> Self {
+    fn new(i: u32, j: u32, dashpot: f64) -> Self {
         Self {
             i,
             j,
             touching: false,
+            dashpot,
             tangential: Vector::zeros(),
             bridge: None,
         }
@@ -150,6 +154,15 @@ pub struct Discs {
     listed_at: Option<Vec<Vector<2>>>,
     /// The list's margin beyond contact and rupture (m).
     skin: f64,
+}
+
+/// |v| > limit (≥ 0), exactly as the rounded norm compares, without the square root where
+/// |v|² lies clearly below limit²: a sticking contact's spring (most contacts) skips the
+/// square root's latency.
+#[inline]
+fn exceeds(v: &Vector<2>, limit: f64) -> bool {
+    // 1e-12 below limit², far beyond the rounding of either side, |v| is certainly below limit
+    v.norm_squared() >= limit * limit * (1.0 - 1e-12) && v.norm() > limit
 }
 
 /// A sphere of radius r and density ρ: mass 4πr³ρ/3, inertia 2mr²/5.
@@ -285,10 +298,11 @@ impl Discs {
             self.mass[k] *= factor.powi(3);
             self.inertia[k] *= factor.powi(5);
         }
-        // a bridge's law depends on its pair's radius
+        // a pair's dashpot depends on its masses, a bridge's law on its pair's radius
         for p in 0..self.pairs.len() {
+            let (i, j) = (self.pairs[p].i as usize, self.pairs[p].j as usize);
+            self.pairs[p].dashpot = self.dashpot(i, j);
             if let Some(bridge) = self.pairs[p].bridge {
-                let (i, j) = (self.pairs[p].i as usize, self.pairs[p].j as usize);
                 self.pairs[p].bridge = Some(self.bridge(i, j, bridge.liquid)?);
             }
         }
@@ -485,7 +499,7 @@ impl Discs {
             }
             match old.next_if(|p| (p.i, p.j) == (i, j)) {
                 Some(kept) => pairs.push(kept),
-                None => pairs.push(Pair::new(i, j)),
+                None => pairs.push(Pair::new(i, j, self.dashpot(i as usize, j as usize))),
             }
         }
         for dropped in old {
@@ -493,6 +507,14 @@ impl Discs {
         }
         self.pairs = pairs;
         self.listed_at = Some(self.position.clone());
+    }
+
+    /// The normal dashpot of a contact between i and j: 2ζ√(k_n m_eff) with the effective mass
+    /// m_eff = m_i m_j/(m_i + m_j), critically damped at ζ = 1.
+    fn dashpot(&self, i: usize, j: usize) -> f64 {
+        let m = &self.model;
+        let m_eff = self.mass[i] * self.mass[j] / (self.mass[i] + self.mass[j]);
+        2.0 * m.damping_ratio * (m.normal_stiffness * m_eff).sqrt()
     }
 
     /// A broken bridge gives half of its liquid back to each grain.
@@ -552,7 +574,7 @@ impl Discs {
         pair.touching = gap < 0.0;
         pair.tangential = if pair.touching {
             let friction = if grain_pair { self.model.friction } else { 0.0 };
-            self.contact_force(i, j, normal, -gap, previous, friction, dt)
+            self.contact_force(pair, normal, -gap, previous, friction, dt)
         } else {
             Vector::zeros()
         };
@@ -583,14 +605,12 @@ impl Discs {
         Ok(())
     }
 
-    /// The contact force between overlapping i and j (overlap δ > 0, unit normal from i to
-    /// j) with Coulomb coefficient `friction`, added to both; returns the advanced tangential
-    /// spring.
-    #[allow(clippy::too_many_arguments)]
+    /// The contact force between the overlapping pair i and j (overlap δ > 0, unit normal from
+    /// i to j) with Coulomb coefficient `friction`, added to both; returns the advanced
+    /// tangential spring.
     fn contact_force(
         &mut self,
-        i: usize,
-        j: usize,
+        pair: &Pair,
         normal: Vector<2>,
         overlap: f64,
         previous: Vector<2>,
@@ -598,22 +618,21 @@ impl Discs {
         dt: f64,
     ) -> Vector<2> {
         let m = &self.model;
+        let (i, j) = (pair.i as usize, pair.j as usize);
         let tangent = Vector::<2>::new(-normal[1], normal[0]);
         let (ri, rj) = (self.radius[i], self.radius[j]);
         // the velocity of j's contact point relative to i's (ω × r in 2D: ω(−r_y, r_x))
         let relative = (self.velocity[j] - self.velocity[i])
             - tangent * (self.angular_velocity[j] * rj + self.angular_velocity[i] * ri);
         let normal_speed = relative.dot(&normal);
-        let m_eff = self.mass[i] * self.mass[j] / (self.mass[i] + self.mass[j]);
-        let dashpot = 2.0 * m.damping_ratio * (m.normal_stiffness * m_eff).sqrt();
         // repulsive only: the dashpot may not pull the discs together
-        let normal_force = (m.normal_stiffness * overlap - dashpot * normal_speed).max(0.0);
+        let normal_force = (m.normal_stiffness * overlap - pair.dashpot * normal_speed).max(0.0);
         // the tangential spring, kept in the current tangent line, then capped at μ F_n
         let mut spring = previous - normal * previous.dot(&normal);
         spring += (relative - normal * normal_speed) * dt;
         let mut tangential = spring * m.tangential_stiffness;
         let limit = friction * normal_force;
-        if tangential.norm() > limit {
+        if exceeds(&tangential, limit) {
             tangential *= if limit > 0.0 {
                 limit / tangential.norm()
             } else {
@@ -706,5 +725,40 @@ impl Discs {
                     + 0.5 * self.inertia[k] * self.angular_velocity[k].powi(2)
             })
             .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::SplitMix64;
+
+    /// The shortcut decides as the rounded norm compares, for limits at, one ulp about, and
+    /// 1e-12 and 1e-13 about the norm, and zero.
+    #[test]
+    fn exceeds_decides_as_the_rounded_norm_compares() {
+        let mut rng = SplitMix64::new(7);
+        for _ in 0..20_000 {
+            let scale = 10f64.powf(16.0 * rng.uniform() - 8.0);
+            let v = Vector::<2>::new(rng.uniform() - 0.5, rng.uniform() - 0.5) * scale;
+            let norm = v.norm();
+            let ulp = |k: i64| f64::from_bits((norm.to_bits() as i64 + k) as u64);
+            for limit in [
+                norm,
+                ulp(1),
+                ulp(-1),
+                ulp(2),
+                ulp(-2),
+                norm * (1.0 + 1e-12),
+                norm * (1.0 - 1e-12),
+                norm * (1.0 + 1e-13),
+                norm * (1.0 - 1e-13),
+                0.0,
+                2.0 * norm,
+            ] {
+                assert_eq!(exceeds(&v, limit), norm > limit, "{v:?} {limit:e}");
+            }
+        }
+        assert!(!exceeds(&Vector::zeros(), 0.0));
     }
 }
