@@ -691,7 +691,7 @@ impl<const D: usize> PairEquation<D, KernelLink> for EulerRates<'_> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn pair(
         &self,
         out: &mut Rates<D>,
@@ -1165,7 +1165,7 @@ impl<const D: usize> PairEquation<D, KernelLink> for StressForces<'_, D> {
         (Vector::zeros(), Vector::zeros(), 0.0)
     }
 
-    #[inline]
+    #[inline(always)]
     fn pair(
         &self,
         (acceleration, wall, heating): &mut Self::Sum,
