@@ -102,6 +102,16 @@ impl<const D: usize> Kernel<D> {
         r * (1.0 / h) < self.support
     }
 
+    /// Whether a partner at squared distance `r2` lies clearly beyond the support κh:
+    /// r² > (κh)²(1 + 10⁻¹²). The margin is far above the few roundings of r = √r², 1/h and
+    /// their product, so [`Self::reaches`] is then false and W and dW/dr are 0 exactly: pairs in
+    /// a neighbour list's skin are dropped without a square root or a division.
+    #[inline]
+    pub fn clearly_beyond(&self, r2: f64, h: f64) -> bool {
+        let reach = self.support * h;
+        r2 > reach * reach * (1.0 + 1e-12)
+    }
+
     /// dW/dr (h held fixed).
     #[inline]
     pub fn derivative(&self, r: f64, h: f64) -> f64 {
@@ -303,6 +313,35 @@ mod tests {
         }
         let gaussian = Kernel::<1>::new(KernelShape::Gaussian);
         assert!(gaussian.value(3.0 * (1.0 - 1e-9), 1.0) > 1e-5);
+    }
+
+    /// The square-root-free test may only drop pairs that the exact one drops: wherever
+    /// `clearly_beyond` holds, `reaches` is false and W, dW/dr are 0. Checked over h of 24
+    /// decades and separations packed about the edge (down to one ulp of r² either side), and
+    /// it must drop every pair a relative 10⁻¹¹ beyond the edge.
+    #[test]
+    fn the_square_root_free_support_test_drops_only_what_the_exact_one_drops() {
+        for shape in KernelShape::ALL {
+            let kernel = Kernel::<3>::new(shape);
+            for decade in -12..12 {
+                let h = 1.37 * 10f64.powi(decade);
+                let edge2 = kernel.support_radius(h).powi(2);
+                let mut r2s: Vec<f64> = (-40..=40)
+                    .map(|k| edge2 * (1.0 + k as f64 * 2.5e-14))
+                    .collect();
+                r2s.extend([edge2.next_down(), edge2, edge2.next_up(), 4.0 * edge2]);
+                for r2 in r2s {
+                    if kernel.clearly_beyond(r2, h) {
+                        let r = r2.sqrt();
+                        assert!(!kernel.reaches(r, h), "{shape:?} h {h} r² {r2}");
+                        assert_eq!(kernel.value(r, h), 0.0);
+                        assert_eq!(kernel.derivative(r, h), 0.0);
+                    }
+                }
+                assert!(kernel.clearly_beyond(edge2 * (1.0 + 1e-11), h));
+                assert!(!kernel.clearly_beyond(edge2, h));
+            }
+        }
     }
 
     #[test]

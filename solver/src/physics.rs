@@ -345,11 +345,13 @@ impl<const D: usize> PairEquation<D> for SummationDensity<'_, D> {
         me.mass * self.kernel.value(0.0, me.smoothing_length)
     }
 
-    #[inline]
+    #[inline(always)]
     fn pair(&self, rho: &mut f64, me: &DensitySource<D>, other: &DensitySource<D>, _: &()) {
-        let r = (me.position - other.position).norm();
+        let r2 = (me.position - other.position).norm_squared();
         let h = 0.5 * (me.smoothing_length + other.smoothing_length);
-        *rho += other.mass * self.kernel.value(r, h);
+        if !self.kernel.clearly_beyond(r2, h) {
+            *rho += other.mass * self.kernel.value(r2.sqrt(), h);
+        }
     }
 
     fn finish(&self, _: &DensitySource<D>, rho: f64) -> f64 {
@@ -455,7 +457,11 @@ pub fn solve_smoothing_lengths<const D: usize>(
             within.clear();
             let x_i = p.position[i];
             for j in neighbours.of(i) {
-                let r = (x_i - p.position[j]).norm();
+                let r2 = (x_i - p.position[j]).norm_squared();
+                if kernel.clearly_beyond(r2, reach) {
+                    continue;
+                }
+                let r = r2.sqrt();
                 if kernel.reaches(r, reach) {
                     within.push((j as u32, r));
                 }
@@ -797,6 +803,22 @@ impl PairKernel {
             PairKernel::OwnH => (kernel.derivative(r, h_i), kernel.derivative(r, h_j)),
         }
     }
+
+    /// Whether both of [`Self::derivatives`] are certainly 0 at the squared distance `r2`
+    /// ([`Kernel::clearly_beyond`] the h that reaches farther).
+    #[inline]
+    pub fn clearly_beyond<const D: usize>(
+        self,
+        kernel: &Kernel<D>,
+        r2: f64,
+        h_i: f64,
+        h_j: f64,
+    ) -> bool {
+        match self {
+            PairKernel::MeanH => kernel.clearly_beyond(r2, 0.5 * (h_i + h_j)),
+            PairKernel::OwnH => kernel.clearly_beyond(r2, h_i.max(h_j)),
+        }
+    }
 }
 
 /// A pair within the kernel's reach, as the rate passes see it: the distance and dW/dr for
@@ -858,12 +880,13 @@ impl KernelPairs {
                 for (end, &i) in ends.iter_mut().zip(rows) {
                     let (x_i, h_i) = (p.position[i], p.smoothing_length[i]);
                     for j in neighbours.of(i) {
-                        let r = (x_i - p.position[j]).norm();
-                        if r == 0.0 {
+                        let (r2, h_j) =
+                            ((x_i - p.position[j]).norm_squared(), p.smoothing_length[j]);
+                        if r2 == 0.0 || pair_kernel.clearly_beyond(kernel, r2, h_i, h_j) {
                             continue;
                         }
-                        let (dw_i, dw_j) =
-                            pair_kernel.derivatives(kernel, r, h_i, p.smoothing_length[j]);
+                        let r = r2.sqrt();
+                        let (dw_i, dw_j) = pair_kernel.derivatives(kernel, r, h_i, h_j);
                         if dw_i != 0.0 || dw_j != 0.0 {
                             pairs.push((j as u32, KernelLink { r, dw_i, dw_j }));
                         }
