@@ -738,15 +738,19 @@ impl<const D: usize> PairEquation<D, KernelLink> for EulerRates<'_> {
                     EnergyEquation::OwnPressure => pressure_i,
                     EnergyEquation::Symmetric => 0.5 * (pressure_i + pressure_j),
                 };
-        out.energy_rate += m_j
-            * dw_mean
-            * self.viscosity.conduction(
-                me.internal_energy,
-                other.internal_energy,
-                me.pressure,
-                other.pressure,
-                rho_mean,
-            );
+        // without conduction (α_u = 0, the default) its term is 0 and its square root and two
+        // divisions are spared
+        if self.viscosity.alpha_u != 0.0 {
+            out.energy_rate += m_j
+                * dw_mean
+                * self.viscosity.conduction(
+                    me.internal_energy,
+                    other.internal_energy,
+                    me.pressure,
+                    other.pressure,
+                    rho_mean,
+                );
+        }
         out.density_rate += m_j * dw_i * v_dot_rhat * self.density_weight(me, other);
         let v_sig = signal_speed(me.sound_speed, other.sound_speed, v_dot_rhat);
         out.signal_speed = out.signal_speed.max(v_sig);
