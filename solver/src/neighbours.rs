@@ -161,23 +161,21 @@ impl<const D: usize> CellGrid<D> {
         (0..D).rev().fold(0, |acc, a| acc * self.dims[a] + cell[a])
     }
 
-    /// Calls `visit(c)` for each cell c exactly `ring` cells from `centre` (the largest offset
-    /// over the axes; ring 0 is the centre itself), in a fixed order.
+    /// Calls `visit(c)` for each cell c within `rings` cells of `centre` on every axis, in a
+    /// fixed order.
     #[inline]
-    fn for_each_cell_in_ring(
+    fn for_each_cell_around(
         &self,
         centre: &[usize; D],
-        ring: usize,
+        rings: usize,
         mut visit: impl FnMut(usize),
     ) {
-        let lo: [usize; D] = std::array::from_fn(|a| centre[a].saturating_sub(ring));
+        let lo: [usize; D] = std::array::from_fn(|a| centre[a].saturating_sub(rings));
         let hi: [usize; D] =
-            std::array::from_fn(|a| centre[a].saturating_add(ring).min(self.dims[a] - 1));
+            std::array::from_fn(|a| centre[a].saturating_add(rings).min(self.dims[a] - 1));
         let mut cell = lo;
         loop {
-            if (0..D).any(|a| cell[a].abs_diff(centre[a]) == ring) {
-                visit(self.linear_index(&cell));
-            }
+            visit(self.linear_index(&cell));
             // odometer increment over the box lo..=hi
             let mut a = 0;
             loop {
@@ -275,12 +273,6 @@ fn median(values: &[f64]) -> f64 {
     *sorted.select_nth_unstable_by(middle, f64::total_cmp).1
 }
 
-/// How many rings of cells of `cell_size` around a particle's cell hold every point within
-/// `reach` of it (at least one: the particle may sit anywhere in its cell).
-fn rings_needed(reach: f64, cell_size: f64) -> usize {
-    (reach / cell_size).ceil().max(1.0) as usize
-}
-
 /// Whether i, not j, owns the pair (i, j): the larger h, the lower index on a tie.
 #[inline]
 fn owns(i: u32, h_i: f64, j: u32, h_j: f64) -> bool {
@@ -330,25 +322,18 @@ fn owned_lists<const D: usize>(
                     .iter()
                     .map(|&i| support * smoothing_length[i as usize])
                     .fold(0.0, f64::max);
+                let rings = (cell_reach / grid.cell_size).ceil().max(1.0) as usize;
                 // a cell of images only pairs with queried particles: the others are left out
                 // of its candidates, and a cell with none around it has nothing to find
                 let images_only = members.iter().all(|&i| i as usize >= n_query);
-                // ring by ring, so that a member whose reach needs fewer rings than the cell's
-                // farthest-reaching member tests only the candidates of its own rings
-                candidates.clear(grid.centre(cell), grid.cell_size);
-                let centre = grid.coordinates(cell);
-                // no cell lies farther than the grid's longest side
-                let farthest = grid.dims.iter().max().map_or(0, |&n| n - 1);
-                for ring in 0..=rings_needed(cell_reach, grid.cell_size).min(farthest) {
-                    grid.for_each_cell_in_ring(&centre, ring, |c| {
-                        for &j in grid.members_of(c) {
-                            if !images_only || (j as usize) < n_query {
-                                candidates.push(j, &positions[j as usize]);
-                            }
+                candidates.clear(grid.centre(cell));
+                grid.for_each_cell_around(&grid.coordinates(cell), rings, |c| {
+                    for &j in grid.members_of(c) {
+                        if !images_only || (j as usize) < n_query {
+                            candidates.push(j, &positions[j as usize]);
                         }
-                    });
-                    candidates.ring_ends.push(candidates.index.len());
-                }
+                    }
+                });
                 if candidates.is_empty() {
                     continue;
                 }
@@ -434,10 +419,7 @@ const LISTS_PER_TASK: usize = 256;
 /// f64 search.
 struct CandidateBuffer<const D: usize> {
     origin: Vector<D>,
-    cell_size: f64,
     index: Vec<u32>,
-    /// How many candidates lie within ring 0, 1, … of the cell.
-    ring_ends: Vec<usize>,
     coarse: [Vec<f32>; D],
     /// 1 where a candidate passes the f32 filter, 0 elsewhere.
     near: Vec<u8>,
@@ -450,9 +432,7 @@ impl<const D: usize> Default for CandidateBuffer<D> {
     fn default() -> Self {
         Self {
             origin: Vector::zeros(),
-            cell_size: 0.0,
             index: Vec::new(),
-            ring_ends: Vec::new(),
             coarse: std::array::from_fn(|_| Vec::new()),
             near: Vec::new(),
         }
@@ -460,11 +440,9 @@ impl<const D: usize> Default for CandidateBuffer<D> {
 }
 
 impl<const D: usize> CandidateBuffer<D> {
-    fn clear(&mut self, origin: Vector<D>, cell_size: f64) {
+    fn clear(&mut self, origin: Vector<D>) {
         self.origin = origin;
-        self.cell_size = cell_size;
         self.index.clear();
-        self.ring_ends.clear();
         self.coarse.iter_mut().for_each(Vec::clear);
     }
 
@@ -481,7 +459,7 @@ impl<const D: usize> CandidateBuffer<D> {
 
     /// Appends to `out` every candidate j that i owns within the pair's reach, skipping pairs of
     /// two unqueried particles. The owner's own reach κ h_i covers every such pair, so the
-    /// filter tests r < κ h_i, over the candidates of the rings that reach needs.
+    /// filter tests r < κ h_i.
     fn collect_owned(
         &mut self,
         i: u32,
@@ -491,9 +469,8 @@ impl<const D: usize> CandidateBuffer<D> {
         n_query: usize,
         out: &mut Vec<u32>,
     ) {
+        let n = self.index.len();
         let (xi, h_i) = (positions[i as usize], smoothing_length[i as usize]);
-        let rings = rings_needed(support * h_i, self.cell_size).min(self.ring_ends.len() - 1);
-        let n = self.ring_ends[rings];
         let centre: [f32; D] = std::array::from_fn(|a| (xi[a] - self.origin[a]) as f32);
         let reach = (support * h_i) as f32 * (1.0 + FILTER_SLACK);
         let reach2 = reach * reach;
