@@ -2041,19 +2041,24 @@ fn validate_particles<const D: usize>(
     Ok(())
 }
 
-/// Each material's shear modulus G (0 for a fluid).
 /// A particle's spacing from its volume: the side of its cell in D dimensions, the width of a
 /// ring's or shell's cross-section in r, the side of a ring's square cross-section in (r, z).
 fn particle_spacing(formulation: Formulation, dimension: usize, volume: f64, r: f64) -> f64 {
     if formulation.is_axisymmetric() {
         (volume / (2.0 * PI * r)).sqrt()
     } else if formulation.geometry() == Geometry::Planar {
-        volume.powf(1.0 / dimension as f64)
+        // a line's spacing is its volume: the root is skipped where it would be x^1
+        if dimension == 1 {
+            volume
+        } else {
+            volume.powf(1.0 / dimension as f64)
+        }
     } else {
         formulation.geometry().shell_width(r, volume)
     }
 }
 
+/// Each material's shear modulus G (0 for a fluid).
 fn shear_moduli(materials: &[Material]) -> Vec<f64> {
     materials
         .iter()
