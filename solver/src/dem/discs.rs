@@ -732,6 +732,7 @@ impl Discs {
 mod tests {
     use super::*;
     use crate::random::SplitMix64;
+    use std::f64::consts::PI;
 
     /// The shortcut decides as the rounded norm compares, for limits at, one ulp about, and
     /// 1e-12 and 1e-13 about the norm, and zero.
@@ -760,5 +761,155 @@ mod tests {
             }
         }
         assert!(!exceeds(&Vector::zeros(), 0.0));
+    }
+
+    /// A water sphere of 1 m radius weighs 4188.79 kg (4π/3 · 1000), with moment of inertia
+    /// 2/5 m r² about its centre; both scale as r³ and r⁵.
+    #[test]
+    fn a_sphere_weighs_four_thirds_pi_r_cubed_rho() {
+        let (mass, inertia) = sphere_mass(1.0, 1000.0);
+        assert!((mass - 4188.790_204_786_391).abs() < 1e-9, "{mass}");
+        assert!((inertia - 1675.516_081_914_556).abs() < 1e-9, "{inertia}");
+        let (small, small_inertia) = sphere_mass(0.5, 1000.0);
+        assert!((small * 8.0 / mass - 1.0).abs() < 1e-15);
+        assert!((small_inertia * 32.0 / inertia - 1.0).abs() < 1e-15);
+    }
+
+    /// Grains come first and boundary particles after them; a set of discs is never empty
+    /// (`Discs::new` refuses none).
+    #[test]
+    fn grains_come_first_and_boundary_particles_follow() {
+        let centres = vec![Vector::<2>::new(0.0, 0.0), Vector::<2>::new(1.0, 0.0)];
+        let mut discs =
+            Discs::new(centres, vec![0.1, 0.2], 1000.0, sand_contact(), None).expect("two grains");
+        assert_eq!((discs.len(), discs.grains()), (2, 2));
+        assert!(!discs.is_empty());
+        assert_eq!(
+            discs.add_boundary_particle(Vector::<2>::new(2.0, 0.0), 0.1, 1.0),
+            2
+        );
+        assert_eq!((discs.len(), discs.grains()), (3, 2));
+        assert!(Discs::new(vec![], vec![], 1000.0, sand_contact(), None).is_err());
+    }
+
+    /// Two grains of radii 1 and 2 and a boundary particle: the grains' cross-sections
+    /// π(1 + 4) = 5π, volumes 4π(1 + 8)/3 = 12π, layer one mean diameter, 3; the boundary
+    /// particle counts in none of them. Scaling the radii by 2 scales each grain's mass by 8 and
+    /// its inertia by 32, as a sphere of twice the radius has, and leaves the boundary alone.
+    #[test]
+    fn grain_measures_and_radius_scaling() {
+        let centres = vec![Vector::<2>::new(0.0, 0.0), Vector::<2>::new(10.0, 0.0)];
+        let mut discs =
+            Discs::new(centres, vec![1.0, 2.0], 1000.0, sand_contact(), None).expect("two grains");
+        discs.add_boundary_particle(Vector::<2>::new(20.0, 0.0), 5.0, 1.0);
+        assert!((discs.grain_area() / (5.0 * PI) - 1.0).abs() < 1e-15);
+        assert!((discs.grain_volume() / (12.0 * PI) - 1.0).abs() < 1e-15);
+        assert_eq!(discs.layer_thickness(), 3.0);
+        discs.scale_radii(2.0).expect("a positive factor");
+        assert_eq!(discs.radius, [2.0, 4.0, 5.0]);
+        for k in 0..2 {
+            let (mass, inertia) = sphere_mass(discs.radius[k], 1000.0);
+            assert!((discs.mass[k] / mass - 1.0).abs() < 1e-14, "grain {k}");
+            assert!(
+                (discs.inertia[k] / inertia - 1.0).abs() < 1e-14,
+                "grain {k}"
+            );
+        }
+        assert_eq!((discs.mass[2], discs.inertia[2]), (1.0, 10.0));
+    }
+
+    /// Cundall's local damping takes α|F| from each force component against its velocity
+    /// component, and α|T| from the torque against the spin: v += (F − α|F| sign v) dt/m,
+    /// ω += (T − α|T| sign ω) dt/I. `set_local_damping` sets α from then on and refuses α = 1
+    /// by name.
+    #[test]
+    fn local_damping_opposes_the_motion_by_alpha_times_the_force() {
+        let mut discs = Discs::new(
+            vec![Vector::<2>::zeros()],
+            vec![0.01],
+            1000.0,
+            sand_contact(),
+            None,
+        )
+        .expect("one grain");
+        let alpha = 0.7;
+        discs.set_local_damping(alpha).expect("α < 1");
+        let err = discs.set_local_damping(1.0).unwrap_err().to_string();
+        assert!(err.contains("local damping"), "{err}");
+        let (m, i) = (discs.mass[0], discs.inertia[0]);
+        discs.velocity[0] = Vector::<2>::new(1.0, -1.0);
+        discs.angular_velocity[0] = -2.0;
+        discs.force[0] = Vector::<2>::new(3.0, 3.0);
+        discs.torque[0] = 5.0;
+        let dt = 1e-3;
+        discs.advance(dt).expect("a finite step");
+        // changes of order 0.1 to 10 on values of order 1: round-off below 1e-14
+        let dv = discs.velocity[0] - Vector::<2>::new(1.0, -1.0);
+        assert!(
+            (dv[0] / (3.0 * (1.0 - alpha) * dt / m) - 1.0).abs() < 1e-12,
+            "{dv:?}"
+        );
+        assert!(
+            (dv[1] / (3.0 * (1.0 + alpha) * dt / m) - 1.0).abs() < 1e-12,
+            "{dv:?}"
+        );
+        let dw = discs.angular_velocity[0] + 2.0;
+        assert!(
+            (dw / (5.0 * (1.0 + alpha) * dt / i) - 1.0).abs() < 1e-12,
+            "{dw}"
+        );
+    }
+
+    fn sand_contact() -> ContactModel {
+        ContactModel {
+            normal_stiffness: 1e5,
+            tangential_stiffness: 5e4,
+            friction: 0.5,
+            damping_ratio: 0.1,
+            local_damping: 0.0,
+        }
+    }
+
+    /// Each field of the contact model is refused by name just past each edge of its range
+    /// (zero, infinite and NaN stiffness; negative, infinite and NaN friction; damping ratios
+    /// below 0 and at 1) and accepted at the closed edges (no friction, no damping).
+    #[test]
+    fn the_contact_models_edges_are_named() {
+        type Edit = fn(&mut ContactModel, f64);
+        let fields: [(&str, Edit); 5] = [
+            ("normal stiffness", |m, x| m.normal_stiffness = x),
+            ("tangential stiffness", |m, x| m.tangential_stiffness = x),
+            ("friction", |m, x| m.friction = x),
+            ("damping ratio", |m, x| m.damping_ratio = x),
+            ("local damping", |m, x| m.local_damping = x),
+        ];
+        let refused: [&[f64]; 5] = [
+            &[0.0, -1.0, f64::INFINITY, f64::NAN],
+            &[0.0, -1.0, f64::INFINITY, f64::NAN],
+            &[-1e-9, f64::INFINITY, f64::NAN],
+            &[-1e-9, 1.0, f64::NAN],
+            &[-1e-9, 1.0, f64::NAN],
+        ];
+        let accepted: [&[f64]; 5] = [
+            &[1e-9, 1e12],
+            &[1e-9, 1e12],
+            &[0.0, 10.0],
+            &[0.0, 0.999],
+            &[0.0, 0.999],
+        ];
+        assert!(sand_contact().validate().is_ok());
+        for (((name, edit), bad), good) in fields.iter().zip(refused).zip(accepted) {
+            for &x in bad {
+                let mut model = sand_contact();
+                edit(&mut model, x);
+                let err = model.validate().expect_err(name).to_string();
+                assert!(err.contains(name), "{name} = {x}: {err}");
+            }
+            for &x in good {
+                let mut model = sand_contact();
+                edit(&mut model, x);
+                assert!(model.validate().is_ok(), "{name} = {x} refused");
+            }
+        }
     }
 }
