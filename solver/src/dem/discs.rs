@@ -862,27 +862,29 @@ mod tests {
 
     /// Coordination counts each grain's contacts with grains, boundary particles and walls,
     /// over the grains with two or more. Three unit grains overlap in a row (A–B–C), a
-    /// boundary particle touches A, a wall below touches all three, a fourth grain is a rattler
-    /// far away: A and B have 3 contacts, C 2, the rattler none, so 8/3; the boundary
-    /// particle's own contacts are not a grain's.
+    /// boundary particle touches A, a wall below (not through the origin) overlaps all three:
+    /// A and B have 3 contacts, C 2. A pair of touching grains rests exactly one radius above
+    /// the wall, which they do not touch: one contact each, so they carry nothing. Hence 8/3;
+    /// the boundary particle's own contacts are not a grain's.
     #[test]
     fn coordination_counts_the_load_carrying_grains_contacts() {
         let centres = vec![
-            Vector::<2>::new(0.0, 0.0),
-            Vector::<2>::new(1.9, 0.0),
-            Vector::<2>::new(3.8, 0.0),
-            Vector::<2>::new(20.0, 20.0),
+            Vector::<2>::new(0.0, 100.0),
+            Vector::<2>::new(1.9, 100.0),
+            Vector::<2>::new(3.8, 100.0),
+            Vector::<2>::new(20.0, 100.25),
+            Vector::<2>::new(21.5, 100.25),
         ];
         let mut discs =
-            Discs::new(centres, vec![1.0; 4], 1000.0, sand_contact(), None).expect("four grains");
-        discs.add_boundary_particle(Vector::<2>::new(0.0, 1.9), 1.0, 1.0);
+            Discs::new(centres, vec![1.0; 5], 1000.0, sand_contact(), None).expect("five grains");
+        discs.add_boundary_particle(Vector::<2>::new(0.0, 101.9), 1.0, 1.0);
         discs.add_wall(Wall {
-            point: Vector::<2>::new(0.0, -0.95),
+            point: Vector::<2>::new(0.0, 99.25),
             normal: Vector::<2>::new(0.0, 2.0),
             velocity: Vector::zeros(),
         });
         discs.compute_forces(1e-6).expect("forces");
-        assert_eq!(discs.counts(), (3, 0));
+        assert_eq!(discs.counts(), (4, 0));
         assert!(
             (discs.coordination() - 8.0 / 3.0).abs() < 1e-15,
             "{}",
