@@ -731,6 +731,7 @@ impl Discs {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dem::capillary::{BridgeLaw, RuptureCriterion};
     use crate::random::SplitMix64;
     use std::f64::consts::PI;
 
@@ -890,6 +891,54 @@ mod tests {
             "{}",
             discs.coordination()
         );
+    }
+
+    /// The pore water goes into bridges at the touching grain pairs only: not at a listed
+    /// grain pair with a gap, nor where a grain touches a boundary particle (the first one,
+    /// whose index is the grain count). A volume that is not finite and positive, dry grains
+    /// and grains without contacts are refused by name.
+    #[test]
+    fn pore_water_goes_to_touching_grain_pairs_only() {
+        let r = 1e-4;
+        let wetting = Wetting {
+            law: BridgeLaw::WillettFitted,
+            rupture: RuptureCriterion::Lian,
+            liquid: Liquid {
+                volume: 0.0,
+                ..Liquid::water(1e-15, 0.0).expect("water")
+            },
+        };
+        let centres = vec![
+            Vector::<2>::new(0.0, 0.0),
+            Vector::<2>::new(1.9 * r, 0.0),
+            Vector::<2>::new(3.95 * r, 0.0),
+        ];
+        let mut discs = Discs::new(
+            centres.clone(),
+            vec![r; 3],
+            2650.0,
+            sand_contact(),
+            Some(wetting),
+        )
+        .expect("three grains");
+        discs.add_boundary_particle(Vector::<2>::new(1.9 * r, 1.9 * r), r, 1e-9);
+        let err = discs.distribute_liquid(1e-15).unwrap_err().to_string();
+        assert!(err.contains("contacts"), "{err}");
+        discs.compute_forces(0.0).expect("forces");
+        assert_eq!(discs.counts(), (2, 0));
+        for volume in [0.0, -1e-15, f64::INFINITY, f64::NAN] {
+            let err = discs.distribute_liquid(volume).unwrap_err().to_string();
+            assert!(err.contains("liquid volume"), "{volume}: {err}");
+        }
+        discs
+            .distribute_liquid(1e-15)
+            .expect("one touching grain pair");
+        let bridges: Vec<((usize, usize), f64)> = discs.bridge_volumes().collect();
+        assert_eq!(bridges, [((0, 1), 1e-15)]);
+        let mut dry = Discs::new(centres, vec![r; 3], 2650.0, sand_contact(), None).expect("dry");
+        dry.compute_forces(0.0).expect("forces");
+        let err = dry.distribute_liquid(1e-15).unwrap_err().to_string();
+        assert!(err.contains("wetting"), "{err}");
     }
 
     fn sand_contact() -> ContactModel {
