@@ -731,7 +731,7 @@ impl Discs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dem::capillary::{BridgeLaw, RuptureCriterion};
+    use crate::dem::capillary::{bridge_force, BridgeLaw, RuptureCriterion};
     use crate::random::SplitMix64;
     use std::f64::consts::PI;
 
@@ -939,6 +939,41 @@ mod tests {
         dry.compute_forces(0.0).expect("forces");
         let err = dry.distribute_liquid(1e-15).unwrap_err().to_string();
         assert!(err.contains("wetting"), "{err}");
+    }
+
+    /// A bridge holds its grains up to its rupture gap even where that is wider than the
+    /// list's skin: two grains given V/R³ = 0.1 of pore water (Lian's rupture gap 2.3 skins)
+    /// and pulled apart to 0.8 of it feel the law's force for that volume and gap.
+    #[test]
+    fn a_standing_bridge_stays_listed_up_to_its_rupture_gap() {
+        let r = 1e-4;
+        let volume = 0.1 * r * r * r;
+        let liquid = Liquid::water(volume, 0.0).expect("water");
+        let wetting = Wetting {
+            law: BridgeLaw::WillettFitted,
+            rupture: RuptureCriterion::Lian,
+            liquid: Liquid {
+                volume: 0.0,
+                ..liquid
+            },
+        };
+        let centres = vec![Vector::<2>::zeros(), Vector::<2>::new(1.99 * r, 0.0)];
+        let mut discs = Discs::new(centres, vec![r; 2], 2650.0, sand_contact(), Some(wetting))
+            .expect("two grains");
+        discs.compute_forces(0.0).expect("forces");
+        discs.distribute_liquid(volume).expect("one contact");
+        let radius = effective_radius(r, r);
+        let gap = 0.8 * rupture_gap(RuptureCriterion::Lian, &liquid, radius);
+        assert!(gap > discs.skin, "{gap} {}", discs.skin);
+        discs.position[1] = Vector::<2>::new(2.0 * r + gap, 0.0);
+        discs.compute_forces(0.0).expect("forces");
+        let expected = bridge_force(BridgeLaw::WillettFitted, &liquid, radius, gap).expect("law");
+        assert!(expected > 0.0);
+        assert!(
+            (discs.force[0][0] / expected - 1.0).abs() < 1e-12,
+            "{:?}",
+            discs.force
+        );
     }
 
     fn sand_contact() -> ContactModel {
