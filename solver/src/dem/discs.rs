@@ -976,6 +976,59 @@ mod tests {
         );
     }
 
+    /// A rebuilt list keeps the state of the pairs it keeps. Three wet grains in a row touch;
+    /// each pair takes half of each film as it forms (films V: A–B holds V, B–C 0.75 V). Moving
+    /// A away drops A–B, whose liquid goes back to A's and B's films, while B–C keeps its bridge
+    /// of 0.75 V; the liquid is conserved throughout.
+    #[test]
+    fn a_rebuilt_list_keeps_the_state_of_the_pairs_it_keeps() {
+        let r = 1e-4;
+        let film = 1e-15;
+        let wetting = Wetting {
+            law: BridgeLaw::WillettFitted,
+            rupture: RuptureCriterion::Lian,
+            liquid: Liquid::water(film, 0.0).expect("water"),
+        };
+        let centres = vec![
+            Vector::<2>::zeros(),
+            Vector::<2>::new(1.99 * r, 0.0),
+            Vector::<2>::new(3.98 * r, 0.0),
+        ];
+        let mut discs = Discs::new(centres, vec![r; 3], 2650.0, sand_contact(), Some(wetting))
+            .expect("three grains");
+        discs.compute_forces(0.0).expect("forces");
+        let volumes = |discs: &Discs| discs.bridge_volumes().collect::<Vec<_>>();
+        assert_eq!(volumes(&discs).len(), 2);
+        assert!((volumes(&discs)[1].1 / (0.75 * film) - 1.0).abs() < 1e-12);
+        discs.position[0] = Vector::<2>::new(-10.0 * r, 0.0);
+        discs.compute_forces(0.0).expect("forces");
+        let kept = volumes(&discs);
+        assert_eq!(kept.len(), 1, "{kept:?}");
+        assert_eq!(kept[0].0, (1, 2));
+        assert!((kept[0].1 / (0.75 * film) - 1.0).abs() < 1e-12, "{kept:?}");
+        assert!((discs.total_liquid() / (3.0 * film) - 1.0).abs() < 1e-12);
+        assert!((discs.film[0] / film - 1.0).abs() < 1e-12);
+    }
+
+    /// Boundary particles touch grains but not one another: two overlapping boundary
+    /// particles feel no force.
+    #[test]
+    fn boundary_particles_ignore_one_another() {
+        let mut discs = Discs::new(
+            vec![Vector::<2>::new(10.0, 0.0)],
+            vec![1.0],
+            1000.0,
+            sand_contact(),
+            None,
+        )
+        .expect("one grain");
+        discs.add_boundary_particle(Vector::<2>::new(0.0, 0.0), 1.0, 1.0);
+        discs.add_boundary_particle(Vector::<2>::new(1.5, 0.0), 1.0, 1.0);
+        discs.compute_forces(1e-6).expect("forces");
+        assert_eq!(discs.counts(), (0, 0));
+        assert!(discs.force.iter().all(|f| *f == Vector::<2>::zeros()));
+    }
+
     fn sand_contact() -> ContactModel {
         ContactModel {
             normal_stiffness: 1e5,
