@@ -769,8 +769,8 @@ mod tests {
     #[test]
     fn a_sphere_weighs_four_thirds_pi_r_cubed_rho() {
         let (mass, inertia) = sphere_mass(1.0, 1000.0);
-        assert!((mass - 4188.790_204_786_391).abs() < 1e-9, "{mass}");
-        assert!((inertia - 1675.516_081_914_556).abs() < 1e-9, "{inertia}");
+        assert!((mass - 4_188.790_204_786_391).abs() < 1e-9, "{mass}");
+        assert!((inertia - 1_675.516_081_914_556).abs() < 1e-9, "{inertia}");
         let (small, small_inertia) = sphere_mass(0.5, 1000.0);
         assert!((small * 8.0 / mass - 1.0).abs() < 1e-15);
         assert!((small_inertia * 32.0 / inertia - 1.0).abs() < 1e-15);
