@@ -1029,6 +1029,40 @@ mod tests {
         assert!(discs.force.iter().all(|f| *f == Vector::<2>::zeros()));
     }
 
+    /// A wet grain sliding along the first boundary particle (its index is the grain count)
+    /// feels only the normal spring: no friction and no bridge, whatever its film. Two wet
+    /// grains of which only one carries a film still form a bridge on touching, of half that
+    /// film.
+    #[test]
+    fn boundary_contacts_are_frictionless_and_dry_and_one_film_makes_a_bridge() {
+        let r = 1e-4;
+        let film = 1e-15;
+        let wetting = Wetting {
+            law: BridgeLaw::WillettFitted,
+            rupture: RuptureCriterion::Lian,
+            liquid: Liquid::water(film, 0.0).expect("water"),
+        };
+        let centres = vec![Vector::<2>::zeros(), Vector::<2>::new(50.0 * r, 0.0)];
+        let mut discs = Discs::new(centres, vec![r; 2], 2650.0, sand_contact(), Some(wetting))
+            .expect("two grains");
+        let boundary = discs.add_boundary_particle(Vector::<2>::new(0.0, 1.99 * r), r, 1e-9);
+        assert_eq!(boundary, discs.grains());
+        discs.velocity[0] = Vector::<2>::new(0.1, 0.0);
+        for _ in 0..3 {
+            discs.compute_forces(1e-7).expect("forces");
+        }
+        assert_eq!(discs.counts(), (1, 0));
+        assert_eq!(discs.force[0][0], 0.0);
+        assert!(discs.force[0][1] < 0.0);
+        assert_eq!(discs.torque[0], 0.0);
+        // the second grain, dry, touches the first on its far side
+        discs.film[1] = 0.0;
+        discs.position[1] = Vector::<2>::new(-1.99 * r, 0.0);
+        discs.compute_forces(1e-7).expect("forces");
+        let bridges: Vec<((usize, usize), f64)> = discs.bridge_volumes().collect();
+        assert_eq!(bridges, [((0, 1), 0.5 * film)]);
+    }
+
     fn sand_contact() -> ContactModel {
         ContactModel {
             normal_stiffness: 1e5,
