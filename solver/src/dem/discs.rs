@@ -900,14 +900,7 @@ mod tests {
     #[test]
     fn pore_water_goes_to_touching_grain_pairs_only() {
         let r = 1e-4;
-        let wetting = Wetting {
-            law: BridgeLaw::WillettFitted,
-            rupture: RuptureCriterion::Lian,
-            liquid: Liquid {
-                volume: 0.0,
-                ..Liquid::water(1e-15, 0.0).expect("water")
-            },
-        };
+        let wetting = water_films(0.0);
         let centres = vec![
             Vector::<2>::new(0.0, 0.0),
             Vector::<2>::new(1.9 * r, 0.0),
@@ -949,14 +942,7 @@ mod tests {
         let r = 1e-4;
         let volume = 0.1 * r * r * r;
         let liquid = Liquid::water(volume, 0.0).expect("water");
-        let wetting = Wetting {
-            law: BridgeLaw::WillettFitted,
-            rupture: RuptureCriterion::Lian,
-            liquid: Liquid {
-                volume: 0.0,
-                ..liquid
-            },
-        };
+        let wetting = water_films(0.0);
         let centres = vec![Vector::<2>::zeros(), Vector::<2>::new(1.99 * r, 0.0)];
         let mut discs = Discs::new(centres, vec![r; 2], 2650.0, sand_contact(), Some(wetting))
             .expect("two grains");
@@ -984,11 +970,7 @@ mod tests {
     fn a_rebuilt_list_keeps_the_state_of_the_pairs_it_keeps() {
         let r = 1e-4;
         let film = 1e-15;
-        let wetting = Wetting {
-            law: BridgeLaw::WillettFitted,
-            rupture: RuptureCriterion::Lian,
-            liquid: Liquid::water(film, 0.0).expect("water"),
-        };
+        let wetting = water_films(film);
         let centres = vec![
             Vector::<2>::zeros(),
             Vector::<2>::new(1.99 * r, 0.0),
@@ -1037,11 +1019,7 @@ mod tests {
     fn boundary_contacts_are_frictionless_and_dry_and_one_film_makes_a_bridge() {
         let r = 1e-4;
         let film = 1e-15;
-        let wetting = Wetting {
-            law: BridgeLaw::WillettFitted,
-            rupture: RuptureCriterion::Lian,
-            liquid: Liquid::water(film, 0.0).expect("water"),
-        };
+        let wetting = water_films(film);
         let centres = vec![Vector::<2>::zeros(), Vector::<2>::new(50.0 * r, 0.0)];
         let mut discs = Discs::new(centres, vec![r; 2], 2650.0, sand_contact(), Some(wetting))
             .expect("two grains");
@@ -1061,6 +1039,19 @@ mod tests {
         discs.compute_forces(1e-7).expect("forces");
         let bridges: Vec<((usize, usize), f64)> = discs.bridge_volumes().collect();
         assert_eq!(bridges, [((0, 1), 0.5 * film)]);
+    }
+
+    /// Water with Willett's fitted law and Lian's rupture gap, a film of `film` (m³, 0 for
+    /// none) on each grain at the start.
+    fn water_films(film: f64) -> Wetting {
+        Wetting {
+            law: BridgeLaw::WillettFitted,
+            rupture: RuptureCriterion::Lian,
+            liquid: Liquid {
+                volume: film,
+                ..Liquid::water(1e-15, 0.0).expect("water")
+            },
+        }
     }
 
     fn sand_contact() -> ContactModel {
