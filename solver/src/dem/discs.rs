@@ -765,7 +765,8 @@ mod tests {
     }
 
     /// A water sphere of 1 m radius weighs 4188.79 kg (4π/3 · 1000), with moment of inertia
-    /// 2/5 m r² about its centre; both scale as r³ and r⁵.
+    /// 2/5 m r² about its centre; both scale as r³ and r⁵. Limits at round-off: 1e-9 kg is
+    /// a few ulps of 4188 kg, and a power-of-two radius scales exactly.
     #[test]
     fn a_sphere_weighs_four_thirds_pi_r_cubed_rho() {
         let (mass, inertia) = sphere_mass(1.0, 1000.0);
