@@ -43,6 +43,17 @@ pub struct Bridge {
 /// tolerance asked of the bisections).
 const STEPS_PER_LENGTH: f64 = 1500.0;
 
+/// Where the bisections in P and β stop: a bracket narrower than this relative to its ends
+/// (or absolutely, near zero). The shape's own discretisation error is about 1e-6 (the
+/// catenoid test), so halving further would refine a root that the shooting has already
+/// blurred.
+const BISECTION_WIDTH: f64 = 1e-10;
+
+/// Whether the bracket [lo, hi] is still wider than [`BISECTION_WIDTH`].
+fn still_wide(lo: f64, hi: f64) -> bool {
+    hi - lo > BISECTION_WIDTH * lo.abs().max(hi.abs()).max(1.0)
+}
+
 /// Where the meridian from the contact, integrated back towards the midplane, ends.
 struct Shot {
     /// ψ at the midplane, or −π/2 if the meridian hit the axis or curled under (too much
@@ -117,7 +128,7 @@ fn bridge_at(beta: f64, theta: f64, gap: f64) -> Option<Bridge> {
     while shoot(beta, theta, gap, hi).slope_at_midplane < 0.0 {
         hi *= 2.0;
     }
-    for _ in 0..50 {
+    while still_wide(lo, hi) {
         let mid = 0.5 * (lo + hi);
         if shoot(beta, theta, gap, mid).slope_at_midplane < 0.0 {
             lo = mid;
@@ -156,7 +167,7 @@ pub fn solve(volume: f64, theta: f64, gap: f64) -> Option<Bridge> {
     // which a finer one finds
     let (mut lo, mut hi) =
         crossing(volume, theta, gap, 0.02).or_else(|| crossing(volume, theta, gap, 0.004))?;
-    for _ in 0..40 {
+    while still_wide(lo, hi) {
         let mid = 0.5 * (lo + hi);
         match bridge_at(mid, theta, gap) {
             Some(b) if b.volume < volume => lo = mid,
