@@ -541,3 +541,230 @@ pub fn run_biaxial_test(test: &BiaxialTest) -> Result<BiaxialRun, SolverError> {
     let (discs, sample) = prepare_sample(test)?;
     shear_prepared(discs, sample, test)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    const WIDTH: f64 = 2e-3;
+    const HEIGHT: f64 = 4e-3;
+    /// The membrane particles' radius: below the smallest grain's 1e-4 m.
+    const R_MEMBRANE: f64 = 0.5e-4;
+
+    fn contact() -> ContactModel {
+        ContactModel {
+            normal_stiffness: 1e3,
+            tangential_stiffness: 5e2,
+            friction: 0.5,
+            damping_ratio: 0.3,
+            local_damping: 0.0,
+        }
+    }
+
+    /// Two grains (radii 0.1 and 0.2 mm) in a WIDTH × HEIGHT box whose walls are, in order,
+    /// left, right, bottom and top.
+    fn boxed() -> Discs {
+        let centres = vec![
+            Vector::<2>::new(0.3 * WIDTH, 0.3 * HEIGHT),
+            Vector::<2>::new(0.7 * WIDTH, 0.6 * HEIGHT),
+        ];
+        let mut discs = Discs::new(centres, vec![1e-4, 2e-4], 2650.0, contact(), None).unwrap();
+        for (point, normal) in [
+            ((0.0, 0.0), (1.0, 0.0)),
+            ((WIDTH, 0.0), (-1.0, 0.0)),
+            ((0.0, 0.0), (0.0, 1.0)),
+            ((0.0, HEIGHT), (0.0, -1.0)),
+        ] {
+            discs.add_wall(Wall {
+                point: Vector::<2>::new(point.0, point.1),
+                normal: Vector::<2>::new(normal.0, normal.1),
+                velocity: Vector::zeros(),
+            });
+        }
+        discs
+    }
+
+    /// Each side is a chain of touching (or overlapping) particles from one platen to the
+    /// other, just outside where its wall stood, each as heavy as the smallest grain; the side
+    /// walls are gone and the platens remain; the sample between the chains' inner edges is
+    /// WIDTH wide and spans the chains' centres, HEIGHT − 2r.
+    #[test]
+    fn the_membrane_lines_the_box_with_touching_chains() {
+        let mut discs = boxed();
+        let light = discs.mass[0];
+        let membrane = Membrane::wrap(&mut discs, R_MEMBRANE).unwrap();
+        assert_eq!(discs.walls.len(), 2);
+        assert_eq!(discs.wall_force.len(), 2);
+        assert_eq!(discs.walls[0].normal, Vector::<2>::new(0.0, 1.0));
+        assert_eq!(discs.walls[1].normal, Vector::<2>::new(0.0, -1.0));
+        let span = HEIGHT - 2.0 * R_MEMBRANE;
+        let links = (span / (2.0 * R_MEMBRANE)).ceil() as usize;
+        assert_eq!(discs.len(), 2 + 2 * (links + 1));
+        assert_eq!(membrane.stiffness, 0.01 * contact().normal_stiffness);
+        for (side, x) in membrane.sides.iter().zip([WIDTH + R_MEMBRANE, -R_MEMBRANE]) {
+            assert_eq!(side.len(), links + 1);
+            let ys: Vec<f64> = side.iter().map(|&k| discs.position[k][1]).collect();
+            let (low, high) = (
+                ys.iter().cloned().fold(f64::INFINITY, f64::min),
+                ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+            );
+            assert!(
+                (low - R_MEMBRANE).abs() < 1e-15 && (high - (HEIGHT - R_MEMBRANE)).abs() < 1e-15
+            );
+            for link in side.windows(2) {
+                let d = (discs.position[link[1]] - discs.position[link[0]]).norm();
+                // at most touching (to round-off: here the span is a whole number of diameters)
+                assert!((d / membrane.rest_length - 1.0).abs() < 1e-12, "{d}");
+                assert!(d <= 2.0 * R_MEMBRANE * (1.0 + 1e-12), "{d}");
+            }
+            for &k in side {
+                assert_eq!(discs.position[k][0], x);
+                assert_eq!((discs.radius[k], discs.mass[k]), (R_MEMBRANE, light));
+            }
+        }
+        // counter-clockwise: the right side upwards, the left side downwards
+        let [right, left] = &membrane.sides;
+        assert!(discs.position[right[1]][1] > discs.position[right[0]][1]);
+        assert!(discs.position[left[1]][1] < discs.position[left[0]][1]);
+        let area = membrane.enclosed_area(&discs);
+        assert!((area / (WIDTH * span) - 1.0).abs() < 1e-12, "{area}");
+    }
+
+    #[test]
+    fn a_membrane_it_cannot_wrap_is_refused_by_name() {
+        for radius in [0.0, 1e-4, f64::NAN] {
+            let err = Membrane::wrap(&mut boxed(), radius).unwrap_err();
+            assert!(
+                err.to_string().contains("membrane particle radius"),
+                "{err}"
+            );
+        }
+        let mut discs = boxed();
+        discs.walls.pop();
+        let err = Membrane::wrap(&mut discs, R_MEMBRANE).unwrap_err();
+        assert!(err.to_string().contains("walls"), "{err}");
+    }
+
+    /// A straight chain of height H under the line load q = σ3 t is pushed inwards by q H in
+    /// all (each particle by the pressure on half of each of its links), and nothing along
+    /// it; its links at rest length pull nothing; its ends move with their platens.
+    #[test]
+    fn the_confining_pressure_pushes_each_side_inwards_with_its_line_load_times_its_height() {
+        let mut discs = boxed();
+        let membrane = Membrane::wrap(&mut discs, R_MEMBRANE).unwrap();
+        discs.walls[0].velocity = Vector::<2>::new(0.0, 0.01);
+        discs.walls[1].velocity = Vector::<2>::new(0.0, -0.02);
+        let line_load = 2000.0 * discs.layer_thickness();
+        membrane.add_forces(&mut discs, line_load);
+        let span = HEIGHT - 2.0 * R_MEMBRANE;
+        for (side, inwards) in membrane.sides.iter().zip([-1.0, 1.0]) {
+            let total: Vector<2> = side.iter().map(|&k| discs.force[k]).sum();
+            assert!(
+                (total[0] / (inwards * line_load * span) - 1.0).abs() < 1e-12,
+                "{total}"
+            );
+            assert!(total[1].abs() < 1e-12 * line_load * span, "{total}");
+        }
+        for (p, platen) in membrane.ends() {
+            assert_eq!(discs.force[p][1], 0.0);
+            assert_eq!(discs.velocity[p][1], discs.walls[platen].velocity[1]);
+        }
+        let [right, left] = &membrane.sides;
+        assert_eq!(discs.velocity[right[0]][1], 0.01);
+        assert_eq!(discs.velocity[left[0]][1], -0.02);
+        assert_eq!(discs.force[0], Vector::<2>::zeros());
+    }
+
+    /// A link stretched by δ pulls both its ends together with the link stiffness times δ; a
+    /// link shortened by as much stays slack.
+    #[test]
+    fn a_stretched_link_pulls_with_its_stiffness_and_a_shortened_one_is_slack() {
+        let mut discs = boxed();
+        let membrane = Membrane::wrap(&mut discs, R_MEMBRANE).unwrap();
+        let chain = &membrane.sides[0];
+        let (a, b, c) = (chain[1], chain[2], chain[3]);
+        let delta = 1e-6;
+        discs.position[b][1] += delta;
+        membrane.add_forces(&mut discs, 0.0);
+        let pull = membrane.stiffness * delta;
+        // a's link to b stretched: a pulled up, b down; b's link to c shortened: nothing
+        assert!(
+            (discs.force[a][1] / pull - 1.0).abs() < 1e-9,
+            "{}",
+            discs.force[a]
+        );
+        assert!(
+            (discs.force[b][1] / -pull - 1.0).abs() < 1e-9,
+            "{}",
+            discs.force[b]
+        );
+        assert_eq!(discs.force[c], Vector::<2>::zeros());
+    }
+
+    /// σ1: the platens' mean force over the mean width (enclosed area over height) and the
+    /// layer thickness.
+    #[test]
+    fn the_axial_stress_is_the_mean_platen_force_over_the_mean_width_and_the_layer() {
+        let mut discs = boxed();
+        let membrane = Membrane::wrap(&mut discs, R_MEMBRANE).unwrap();
+        discs.wall_force[0] = Vector::<2>::new(0.3, 2.0);
+        discs.wall_force[1] = Vector::<2>::new(-0.1, -4.0);
+        let width = WIDTH * (HEIGHT - 2.0 * R_MEMBRANE) / HEIGHT;
+        let thickness = 2.0 * (1e-4 + 2e-4) / 2.0;
+        let want = 3.0 / (width * thickness);
+        let got = axial_stress(&discs, &membrane);
+        assert!((got / want - 1.0).abs() < 1e-12, "{got} against {want}");
+    }
+
+    /// Water for saturation S: S times the pores' volume, n/(1 − n) times the grains' sphere
+    /// volume with n the porosity in the plane. Grains of half the sample's area: n = ½.
+    #[test]
+    fn the_water_for_a_saturation_fills_that_share_of_the_pores() {
+        let discs = boxed();
+        let area = 2.0 * PI * (1e-8 + 4e-8);
+        let spheres = 4.0 / 3.0 * PI * (1e-12 + 8e-12);
+        let got = liquid_for_saturation(&discs, area, 0.1);
+        assert!((got / (0.1 * spheres) - 1.0).abs() < 1e-12, "{got}");
+        let denser = liquid_for_saturation(&discs, 1.25 * PI * 5e-8, 0.1);
+        assert!(
+            (denser / (0.1 * 0.25 * spheres) - 1.0).abs() < 1e-12,
+            "{denser}"
+        );
+    }
+
+    /// The pendular range is 0–30 % saturation, both ends included; a dry sample gets no
+    /// bridge.
+    #[test]
+    fn pore_water_outside_the_pendular_range_is_refused_by_name() {
+        let prepared = PreparedSample {
+            wall_stress: 1000.0,
+            width: WIDTH,
+            height: HEIGHT,
+            porosity: 0.2,
+            void_ratio: 0.25,
+            coordination: 3.0,
+            bridges: 0,
+            mean_bridge_volume_ratio: 0.0,
+            mean_bridge_force: 0.0,
+            layer_thickness: 3e-4,
+            preparation_steps: 0,
+        };
+        for saturation in [-0.01, 0.31, f64::NAN] {
+            let test = BiaxialTest::source_paper(2, 1, saturation, 1000.0);
+            let mut sample = prepared;
+            let err = add_pore_water(&mut boxed(), &mut sample, &test).unwrap_err();
+            assert!(err.to_string().contains("saturation"), "{err}");
+        }
+        let mut sample = prepared;
+        let mut discs = boxed();
+        add_pore_water(
+            &mut discs,
+            &mut sample,
+            &BiaxialTest::source_paper(2, 1, 0.0, 1000.0),
+        )
+        .unwrap();
+        assert_eq!(sample, prepared);
+        assert_eq!(discs.bridge_volumes().count(), 0);
+    }
+}
