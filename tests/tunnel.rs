@@ -1,4 +1,4 @@
-//! The tunnel study's quick model on the case the issue names for review: 10 m below 500 kg.
+//! The tunnel study's quick model on its review case: the crown 10 m below 500 kg.
 
 use blastsph_verification::scene::Checkpoints;
 use blastsph_verification::surface_burst::Soil;

@@ -426,7 +426,7 @@ fn run_one(
 /// m/kg^(1/3) in the one-dimensional burst), where the air alone loads the ground.
 const AIR_GAUGE_RANGES_M_AT_500_KG: [f64; 2] = [10.0, 20.0];
 /// The air blast's peak overpressure, arrival and positive impulse against Kingery–Bulmash
-/// hemispherical: the band the issue of the free field set, above `airblast-surface`'s own
+/// hemispherical: the free field's band for the air blast, above `airblast-surface`'s own
 /// 20 % and 10 % for the same one-dimensional scene at its quick resolution.
 const AIR_LIMIT: f64 = 0.30;
 
