@@ -426,12 +426,106 @@ fn bad_loading_is_named_before_consolidation() {
             .unwrap_err()
             .to_string()
     };
+    // Cundall's α in [0, 1): 1 would stop every grain
+    for alpha in [1.2, 1.0, -0.1, f64::NAN] {
+        let mut bad = test;
+        bad.loading.local_damping = alpha;
+        let err = refusal(bad);
+        assert!(err.contains("local damping"), "{alpha}: {err}");
+    }
+    type Field = fn(&mut BiaxialTest) -> &mut f64;
+    let positive: [(&str, Field); 4] = [
+        ("confining stress", |t| &mut t.loading.confining_stress),
+        ("platen speed", |t| &mut t.loading.platen_speed),
+        ("consolidation speed", |t| {
+            &mut t.loading.consolidation_speed
+        }),
+        ("axial strain", |t| &mut t.loading.axial_strain),
+    ];
+    for (name, field) in positive {
+        for value in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let mut bad = test;
+            *field(&mut bad) = value;
+            let err = refusal(bad);
+            assert!(err.contains(name), "{name} = {value}: {err}");
+        }
+    }
     let mut bad = test;
-    bad.loading.local_damping = 1.2;
+    bad.loading.record_every = 0;
     let err = refusal(bad);
-    assert!(err.contains("local damping"), "{err}");
-    let mut bad = test;
-    bad.loading.consolidation_speed = -1.0;
-    let err = refusal(bad);
-    assert!(err.contains("consolidation speed"), "{err}");
+    assert!(err.contains("record every"), "{err}");
+}
+
+/// A whole test of 40 dry grains to 1 % axial strain, checked from what defines it:
+/// - the box is sized for the drawn grains at a porosity of 0.2 (Σπr²/(0.8 · 2W²) = 1) and is
+///   twice as high as wide; the void ratio is n/(1 − n);
+/// - a record every 500 steps while the platens close at a constant speed, so that the k-th
+///   record's axial strain is k times the first's; the last record, when the strain is
+///   reached, ends within one step's closing of it; σ3 as applied;
+/// - the time step is 0.2 √(m_min/k_n); the steps counted are the preparation's, whole
+///   consolidation windows of 500 (at least the five in a row that end it) and the loading's;
+/// - the run counts the grains and the membrane's particles.
+#[test]
+fn a_short_biaxial_test_records_what_it_runs() {
+    use blastsph_solver::dem::biaxial::run_biaxial_test;
+    use blastsph_solver::dem::sample::graded_diameters;
+    use blastsph_solver::random::SplitMix64;
+    let mut test = BiaxialTest::source_paper(40, 2, 0.0, 1000.0);
+    test.loading.axial_strain = 0.01;
+    let (discs, sample) = prepare_sample(&test).unwrap();
+    let (d_min, d_max) = test.diameters;
+    let drawn: f64 = graded_diameters(40, d_min, d_max, &mut SplitMix64::new(2))
+        .unwrap()
+        .iter()
+        .map(|d| std::f64::consts::PI * 0.25 * d * d)
+        .sum();
+    let box_area = sample.width * sample.height;
+    assert!((drawn / (0.8 * box_area) - 1.0).abs() < 1e-12, "{sample:?}");
+    assert!(
+        (sample.height / sample.width - 2.0).abs() < 1e-12,
+        "{sample:?}"
+    );
+    assert!(
+        (sample.void_ratio - sample.porosity / (1.0 - sample.porosity)).abs() < 1e-15,
+        "{sample:?}"
+    );
+    assert_eq!(sample.layer_thickness, discs.layer_thickness());
+    let run = run_biaxial_test(&test).unwrap();
+    assert_eq!(run.sample, sample);
+    let m_min = discs.mass[..discs.grains()]
+        .iter()
+        .cloned()
+        .fold(f64::INFINITY, f64::min);
+    let dt = 0.2 * (m_min / test.contact.normal_stiffness).sqrt();
+    assert!(
+        (run.time_step / dt - 1.0).abs() < 1e-12,
+        "{}",
+        run.time_step
+    );
+    let records = &run.records;
+    let (first, last) = (records[0], records[records.len() - 1]);
+    assert!(records.len() >= 3, "{}", records.len());
+    for (k, r) in records[..records.len() - 1].iter().enumerate() {
+        let want = (k + 1) as f64 * first.axial_strain;
+        assert!(
+            (r.axial_strain / want - 1.0).abs() < 1e-9,
+            "record {k}: {r:?}"
+        );
+        assert!(r.sigma3 == 1000.0 && r.sigma1 > 0.0, "record {k}: {r:?}");
+    }
+    let per_step = first.axial_strain / 500.0;
+    assert!(
+        last.axial_strain >= 0.01 && last.axial_strain - 0.01 < per_step,
+        "{last:?}"
+    );
+    let loading = (last.axial_strain / per_step).round() as usize;
+    let consolidation = run.steps - sample.preparation_steps - loading;
+    assert!(
+        consolidation.is_multiple_of(500) && consolidation >= 2500,
+        "{} steps: {} preparing, {loading} loading",
+        run.steps,
+        sample.preparation_steps
+    );
+    assert_eq!(run.particles, discs.grains() + run.membrane_particles);
+    assert!(run.membrane_particles >= 4, "{run:?}");
 }
