@@ -1107,4 +1107,96 @@ mod tests {
             }
         }
     }
+
+    /// A wall pushes a disc that crosses it by δ with k_n δ along its normal, plus the dashpot
+    /// 2ζ√(k_n m) times the speed into it (never pulling), and feels the opposite; a disc clear
+    /// of it feels nothing. The wall stands off the origin and slants, so that neither its
+    /// point nor its normal can be mistaken for another.
+    #[test]
+    fn a_wall_pushes_with_its_spring_and_dashpot_and_feels_the_reaction() {
+        let model = sand_contact();
+        let normal = Vector::<2>::new(0.6, 0.8);
+        let point = Vector::<2>::new(0.3, -0.2);
+        let r = 1e-3;
+        let overlap = 1e-5;
+        let tangent = Vector::<2>::new(-0.8, 0.6);
+        let centres = vec![
+            point + normal * (r - overlap) + tangent * 0.01,
+            point + normal * (r - 2.0 * overlap) - tangent * 0.02,
+            point + normal * (r + 1e-6),
+        ];
+        let mut discs = Discs::new(centres, vec![r; 3], 2650.0, model, None).unwrap();
+        discs.add_wall(Wall {
+            point,
+            normal,
+            velocity: Vector::<2>::new(0.0, 0.0),
+        });
+        // the first approaches the wall, the second leaves it fast enough to be let go
+        let approach = 0.01;
+        discs.velocity[0] = -normal * approach + tangent * 0.5;
+        discs.velocity[1] = normal * 10.0;
+        discs.compute_forces(1e-7).unwrap();
+        let dashpot = 2.0 * model.damping_ratio * (model.normal_stiffness * discs.mass[0]).sqrt();
+        let push = model.normal_stiffness * overlap + dashpot * approach;
+        assert!(
+            (discs.force[0] - normal * push).norm() < 1e-9 * push,
+            "{}",
+            discs.force[0]
+        );
+        assert_eq!(discs.force[1], Vector::<2>::zeros());
+        assert_eq!(discs.force[2], Vector::<2>::zeros());
+        assert!((discs.wall_force[0] + normal * push).norm() < 1e-9 * push);
+    }
+
+    /// The step: local damping, then v += F/m Δt and ω += T/I Δt, then x += v Δt with the new
+    /// velocity (leapfrog); the walls move at their velocity and the clock advances. A position
+    /// that is no longer finite stops the step with the disc's number.
+    #[test]
+    fn advance_kicks_then_drifts_and_moves_the_walls() {
+        let centres = vec![Vector::<2>::new(1.0, 2.0), Vector::<2>::new(5.0, 2.0)];
+        let mut discs = Discs::new(centres, vec![0.5, 0.25], 1000.0, sand_contact(), None).unwrap();
+        discs.add_wall(Wall {
+            point: Vector::<2>::new(0.0, -1.0),
+            normal: Vector::<2>::new(0.0, 1.0),
+            velocity: Vector::<2>::new(0.5, 2.0),
+        });
+        discs.velocity[0] = Vector::<2>::new(3.0, -1.0);
+        discs.angular_velocity[0] = 2.0;
+        discs.force[0] = Vector::<2>::new(4.0, 8.0);
+        discs.torque[0] = 6.0;
+        let (m, inertia) = (discs.mass[0], discs.inertia[0]);
+        let dt = 0.1;
+        discs.time = 1.0;
+        discs.advance(dt).unwrap();
+        let v = Vector::<2>::new(3.0 + 4.0 / m * dt, -1.0 + 8.0 / m * dt);
+        assert!(
+            (discs.velocity[0] - v).norm() < 1e-15,
+            "{}",
+            discs.velocity[0]
+        );
+        assert!((discs.angular_velocity[0] - (2.0 + 6.0 / inertia * dt)).abs() < 1e-15);
+        let x = Vector::<2>::new(1.0, 2.0) + v * dt;
+        assert!(
+            (discs.position[0] - x).norm() < 1e-15,
+            "{}",
+            discs.position[0]
+        );
+        assert_eq!(discs.position[1], Vector::<2>::new(5.0, 2.0));
+        assert!((discs.walls[0].point - Vector::<2>::new(0.05, -0.8)).norm() < 1e-15);
+        assert!((discs.time - 1.1).abs() < 1e-15);
+        discs.force[1] = Vector::<2>::new(f64::INFINITY, 0.0);
+        let err = discs.advance(dt).unwrap_err().to_string();
+        assert!(err.contains("disc 1 position"), "{err}");
+    }
+
+    /// ½ m v² + ½ I ω², summed over the discs.
+    #[test]
+    fn kinetic_energy_counts_translation_and_rotation() {
+        let centres = vec![Vector::<2>::new(0.0, 0.0), Vector::<2>::new(3.0, 0.0)];
+        let mut discs = Discs::new(centres, vec![0.5, 1.0], 1000.0, sand_contact(), None).unwrap();
+        discs.velocity[0] = Vector::<2>::new(3.0, 4.0);
+        discs.angular_velocity[1] = 2.0;
+        let want = 0.5 * discs.mass[0] * 25.0 + 0.5 * discs.inertia[1] * 4.0;
+        assert!((discs.kinetic_energy() / want - 1.0).abs() < 1e-15);
+    }
 }
