@@ -529,3 +529,43 @@ fn a_short_biaxial_test_records_what_it_runs() {
     assert_eq!(run.particles, discs.grains() + run.membrane_particles);
     assert!(run.membrane_particles >= 4, "{run:?}");
 }
+
+/// The pore water of a prepared sample: the bridges hold S times the pores' volume (the
+/// notes' rule, `liquid_for_saturation`, over the prepared box), and the sample records
+/// their number, their mean V/R³ and their mean force at the gaps they formed at (a wiring
+/// check: the same means taken again from the bridges one by one).
+#[test]
+fn pore_water_goes_into_bridges_and_is_summarised() {
+    use blastsph_solver::dem::biaxial::{add_pore_water, liquid_for_saturation};
+    let test = BiaxialTest::source_paper(40, 2, 0.1, 1000.0);
+    let (mut discs, mut sample) = prepare_sample(&test).unwrap();
+    let water = liquid_for_saturation(&discs, sample.width * sample.height, 0.1);
+    add_pore_water(&mut discs, &mut sample, &test).unwrap();
+    assert!((discs.total_liquid() / water - 1.0).abs() < 1e-12);
+    let liquid = |volume| Liquid {
+        volume,
+        surface_tension: test.surface_tension,
+        contact_angle: test.contact_angle,
+    };
+    let (mut count, mut ratio, mut force) = (0, 0.0, 0.0);
+    for ((i, j), v) in discs.bridge_volumes() {
+        let radius = effective_radius(discs.radius[i], discs.radius[j]);
+        let gap =
+            (discs.position[j] - discs.position[i]).norm() - discs.radius[i] - discs.radius[j];
+        count += 1;
+        ratio += v / radius.powi(3);
+        force += bridge_force(test.law, &liquid(v), radius, gap).unwrap();
+    }
+    assert!(count > 10, "{count} bridges");
+    assert_eq!(sample.bridges, count);
+    let mean_ratio = ratio / count as f64;
+    let mean_force = force / count as f64;
+    assert!(
+        (sample.mean_bridge_volume_ratio / mean_ratio - 1.0).abs() < 1e-12,
+        "{sample:?}"
+    );
+    assert!(
+        (sample.mean_bridge_force / mean_force - 1.0).abs() < 1e-12,
+        "{sample:?}"
+    );
+}
