@@ -462,6 +462,8 @@ fn bad_loading_is_named_before_consolidation() {
 /// - a record every 500 steps while the platens close at a constant speed, so that the k-th
 ///   record's axial strain is k times the first's; the last record, when the strain is
 ///   reached, ends within one step's closing of it; σ3 as applied;
+/// - the sample's area changes by at most three times the axial strain: compression alone
+///   makes ε_v = ε_a, and dilatancy at angles up to 30° widens it by at most 2 ε_a more;
 /// - the time step is 0.2 √(m_min/k_n); the steps counted are the preparation's, whole
 ///   consolidation windows of 500 (at least the five in a row that end it) and the loading's;
 /// - the run counts the grains and the membrane's particles.
@@ -512,6 +514,9 @@ fn a_short_biaxial_test_records_what_it_runs() {
             "record {k}: {r:?}"
         );
         assert!(r.sigma3 == 1000.0 && r.sigma1 > 0.0, "record {k}: {r:?}");
+    }
+    for r in records {
+        assert!(r.volumetric_strain.abs() <= 3.0 * r.axial_strain, "{r:?}");
     }
     let per_step = first.axial_strain / 500.0;
     assert!(
