@@ -1110,8 +1110,8 @@ mod tests {
 
     /// A wall pushes a disc that crosses it by δ with k_n δ along its normal, plus the dashpot
     /// 2ζ√(k_n m) times the speed into it (never pulling), and feels the opposite; a disc clear
-    /// of it feels nothing. The wall stands off the origin and slants, so that neither its
-    /// point nor its normal can be mistaken for another.
+    /// of it feels nothing. The wall stands off the origin, slants and moves, so that neither its
+    /// point, its normal nor its velocity can be mistaken for another.
     #[test]
     fn a_wall_pushes_with_its_spring_and_dashpot_and_feels_the_reaction() {
         let model = sand_contact();
@@ -1129,11 +1129,11 @@ mod tests {
         discs.add_wall(Wall {
             point,
             normal,
-            velocity: Vector::<2>::new(0.0, 0.0),
+            velocity: normal * 0.004 + tangent * 0.3,
         });
-        // the first approaches the wall, the second leaves it fast enough to be let go
+        // the first approaches the moving wall, the second leaves it fast enough to be let go
         let approach = 0.01;
-        discs.velocity[0] = -normal * approach + tangent * 0.5;
+        discs.velocity[0] = normal * (0.004 - approach) + tangent * 0.5;
         discs.velocity[1] = normal * 10.0;
         discs.compute_forces(1e-7).unwrap();
         let dashpot = 2.0 * model.damping_ratio * (model.normal_stiffness * discs.mass[0]).sqrt();
