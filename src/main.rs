@@ -716,73 +716,46 @@ fn verify(
         "{:<22} {:>9} {:>7} {:>9}  {:<44} {:<20} result",
         "problem", "particles", "steps", "wall s", "main errors", "observed order"
     );
+    let jobs: Vec<problems::Job> = names
+        .iter()
+        .map(|name| problems::Job {
+            name: name.clone(),
+            overrides: overrides.clone(),
+        })
+        .collect();
+    let bars = indicatif::MultiProgress::new();
+    let style = ProgressStyle::with_template("{msg:22} [{bar:40}] {percent:>3}% eta {eta}")
+        .expect("valid template");
+    let running: Vec<std::sync::OnceLock<ProgressBar>> =
+        names.iter().map(|_| std::sync::OnceLock::new()).collect();
+    let progress = |k: usize, fraction: f64| {
+        let bar = running[k].get_or_init(|| {
+            bars.add(
+                ProgressBar::new(1000)
+                    .with_style(style.clone())
+                    .with_message(names[k].clone()),
+            )
+        });
+        bar.set_position((fraction * 1000.0) as u64);
+    };
     let mut all_pass = true;
     let mut records = Vec::new();
     let mut figures = Vec::new();
-    for name in &names {
-        let bar = ProgressBar::new(1000).with_message(name.clone());
-        bar.set_style(
-            ProgressStyle::with_template("{msg:22} [{bar:40}] {percent:>3}% eta {eta}")
-                .expect("valid template"),
-        );
-        let output = problems::run(name, level, &overrides, &|f| {
-            bar.set_position((f * 1000.0) as u64)
-        })?;
-        bar.finish_and_clear();
+    problems::run_many(level, &jobs, &progress, &mut |k, output| {
+        if let Some(bar) = running[k].get() {
+            bar.finish_and_clear();
+            bars.remove(bar);
+        }
         report::write_outputs(&out, &output)?;
         if vtk {
             report::write_snapshot(&out, &output)?;
         }
-        let r = &output.record;
-        let finest = r.headline();
-        let errors = r
-            .headline_errors()
-            .map(|(k, v)| format!("{k}={v:.2e}"))
-            .collect::<Vec<_>>()
-            .join(" ");
-        let orders = r
-            .order
-            .iter()
-            .take(2)
-            .map(|(k, v)| format!("{}={v:.2}", k.trim_start_matches("l1_")))
-            .collect::<Vec<_>>()
-            .join(" ");
-        println!(
-            "{:<22} {:>9} {:>7} {:>9.3}  {:<44} {:<20} {}",
-            name,
-            finest.map_or(0, |run| run.n_particles),
-            finest.map_or(0, |run| run.steps),
-            r.wall_s,
-            errors,
-            orders,
-            if r.pass { "PASS" } else { "FAIL" }
-        );
-        for check in r.checks.iter().filter(|c| !c.pass) {
-            println!(
-                "    {} {}: {:.4e} (must be {} {:.4e})",
-                if check.known_limit.is_some() {
-                    "FAIL at a known limit:"
-                } else {
-                    "FAIL"
-                },
-                check.name,
-                check.value,
-                check.relation,
-                check.limit
-            );
-            if let Some(evidence) = &check.known_limit {
-                println!("        {evidence}");
-            }
-        }
-        for run in &r.runs {
-            if let Some(failure) = &run.failure {
-                println!("    {}: stopped: {failure}", run.label);
-            }
-        }
-        all_pass &= r.pass;
+        bars.suspend(|| println!("{}", result_lines(&output.record)));
+        all_pass &= output.record.pass;
         figures.push(output.figure.to_svg());
         records.push(output.record);
-    }
+        Ok(())
+    })?;
     let (_, work_precision) = report::write_work_precision(&out, &records)?;
     let entries: Vec<index::Entry> = records
         .iter()
@@ -800,6 +773,58 @@ fn verify(
         out.display()
     );
     Ok(all_pass)
+}
+
+/// A problem's line of the table, then its failed checks and stopped runs.
+fn result_lines(r: &blastsph_verification::record::Record) -> String {
+    use std::fmt::Write;
+    let finest = r.headline();
+    let errors = r
+        .headline_errors()
+        .map(|(k, v)| format!("{k}={v:.2e}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let orders = r
+        .order
+        .iter()
+        .take(2)
+        .map(|(k, v)| format!("{}={v:.2}", k.trim_start_matches("l1_")))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let mut text = format!(
+        "{:<22} {:>9} {:>7} {:>9.3}  {:<44} {:<20} {}",
+        r.problem,
+        finest.map_or(0, |run| run.n_particles),
+        finest.map_or(0, |run| run.steps),
+        r.wall_s,
+        errors,
+        orders,
+        if r.pass { "PASS" } else { "FAIL" }
+    );
+    for check in r.checks.iter().filter(|c| !c.pass) {
+        let _ = write!(
+            text,
+            "\n    {} {}: {:.4e} (must be {} {:.4e})",
+            if check.known_limit.is_some() {
+                "FAIL at a known limit:"
+            } else {
+                "FAIL"
+            },
+            check.name,
+            check.value,
+            check.relation,
+            check.limit
+        );
+        if let Some(evidence) = &check.known_limit {
+            let _ = write!(text, "\n        {evidence}");
+        }
+    }
+    for run in &r.runs {
+        if let Some(failure) = &run.failure {
+            let _ = write!(text, "\n    {}: stopped: {failure}", run.label);
+        }
+    }
+    text
 }
 
 fn materials_command(json: bool) {
