@@ -218,3 +218,69 @@ fn run_here(
     record.settle();
     Ok(output)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn job(name: &str, overrides: &[(&str, &str)]) -> Job {
+        Job {
+            name: name.into(),
+            overrides: overrides
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect(),
+        }
+    }
+
+    /// The outputs come in the jobs' order, each the record one problem run alone gives.
+    #[test]
+    fn several_problems_at_once_come_back_in_order_as_run_alone() {
+        let jobs = [
+            job("sedov-spherical-1d", &[]),
+            job(kernel_interpolation::NAME, &[]),
+            job(thesis_arrivals::NAME, &[]),
+        ];
+        let mut seen = Vec::new();
+        run_many(Level::Quick, &jobs, &|_, _| {}, &mut |k, output| {
+            seen.push((k, output.record));
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(seen.iter().map(|(k, _)| *k).collect::<Vec<_>>(), [0, 1, 2]);
+        for (k, record) in &seen {
+            let alone = run(&jobs[*k].name, Level::Quick, &jobs[*k].overrides, &|_| {}).unwrap();
+            let strip = |r: &crate::record::Record| {
+                let mut v = serde_json::to_value(r).unwrap();
+                v["wall_s"] = serde_json::Value::Null;
+                for run in v["runs"].as_array_mut().unwrap() {
+                    run["wall_s"] = serde_json::Value::Null;
+                    run["phase_s"] = serde_json::Value::Null;
+                }
+                v
+            };
+            assert_eq!(strip(record), strip(&alone.record), "{}", jobs[*k].name);
+        }
+    }
+
+    /// A problem's error comes back as the run's, and nothing is handed over for it (the one
+    /// before it, started first, may have finished and been handed over).
+    #[test]
+    fn an_error_stops_the_run_and_is_returned() {
+        let jobs = [
+            job(kernel_interpolation::NAME, &[]),
+            job(thesis_arrivals::NAME, &[("no_such_key", "1")]),
+        ];
+        let mut seen = Vec::new();
+        let error = run_many(Level::Quick, &jobs, &|_, _| {}, &mut |k, _| {
+            seen.push(k);
+            Ok(())
+        })
+        .unwrap_err();
+        assert!(
+            matches!(error, VerifyError::UnknownParameter { .. }),
+            "{error}"
+        );
+        assert!(seen.iter().all(|&k| k == 0), "{seen:?}");
+    }
+}
