@@ -855,6 +855,30 @@ mod tests {
         }
     }
 
+    /// The average has no length scale of its own: W̃(λr_i, λr_j; λh) = λ⁻³ W̃(r_i, r_j; h) and
+    /// its derivatives scale as λ⁻⁴. With λ = 2¹⁰ or 2⁻¹⁰ every product, quotient and square
+    /// root scales exactly, so both sides agree to round-off (10⁻¹³ here) wherever each pair is
+    /// evaluated the same way at both scales: for shells near the axis (4 r_i r_j far below h²,
+    /// where the primitive's difference would lose eight digits) as for shells far from it.
+    #[test]
+    fn the_spherical_average_scales_with_h() {
+        let h = 0.3;
+        for shape in KernelShape::ALL {
+            let kernel = RadialKernel::new(Geometry::Spherical, shape);
+            for (r_i, r_j) in [(1e-5, 2e-5), (0.0016, 0.0015), (0.01, 0.2), (2.0, 2.05)] {
+                let base = kernel.value_and_derivatives(r_i, r_j, h);
+                for scale in [1024.0f64, 1.0 / 1024.0] {
+                    let scaled = kernel.value_and_derivatives(scale * r_i, scale * r_j, scale * h);
+                    let label = format!("{shape:?} ({r_i}, {r_j}) × {scale}: {scaled:?} {base:?}");
+                    let close = |got: f64, want: f64| (got - want).abs() <= 1e-13 * want.abs();
+                    assert!(close(scaled.0 * scale.powi(3), base.0), "{label}");
+                    assert!(close(scaled.1 * scale.powi(4), base.1), "{label}");
+                    assert!(close(scaled.2 * scale.powi(4), base.2), "{label}");
+                }
+            }
+        }
+    }
+
     /// Each shape's rule integrates its kernel's pieces exactly: it agrees with the 8-point rule
     /// composed over 64 sub-intervals (exact to round-off for these polynomials, and for the
     /// Gaussian a quadrature error far below 10⁻¹⁴) to 10⁻¹³ of the whole primitive Φ(κ), from
