@@ -55,6 +55,8 @@ struct Bond<const D: usize> {
     other: u32,
     /// j's position is `reflection ⊙ x_other + offset` (1 and 0 for a real particle).
     reflection: Vector<D>,
+    /// Some component of `reflection` is −1: j is a mirror image.
+    reflected: bool,
     offset: Vector<D>,
     /// j is a wall's (or symmetry plane's) image: its force is the wall's reaction.
     is_wall: bool,
@@ -66,6 +68,22 @@ struct Bond<const D: usize> {
     volume: f64,
     /// V_i V_j W_ij / |X_ij|², the hourglass stiffness per unit modulus and coefficient.
     hourglass_stiffness: f64,
+}
+
+impl<const D: usize> Bond<D> {
+    /// A position and a velocity of the real particle `other` as j sees them: reflected where
+    /// j is a mirror image (x·1 = x exactly, so the unreflected skip the product).
+    #[inline]
+    fn seen(&self, x: Vector<D>, v: Vector<D>) -> (Vector<D>, Vector<D>) {
+        if self.reflected {
+            (
+                self.reflection.component_mul(&x),
+                self.reflection.component_mul(&v),
+            )
+        } else {
+            (x, v)
+        }
+    }
 }
 
 /// The reference configuration: each particle's bonds, volume, density, correction matrix
@@ -152,6 +170,7 @@ impl<const D: usize> ReferenceConfiguration<D> {
                 let bond = Bond {
                     other,
                     reflection,
+                    reflected: reflection.iter().any(|&s| s != 1.0),
                     offset: x[j] - reflection.component_mul(&x[k]),
                     is_wall,
                     separation: -dx,
@@ -318,8 +337,9 @@ impl<const D: usize> PairEquation<D, Bond<D>> for Deformation<'_, D> {
         &(_, x_k, v_k): &Self::Source,
         bond: &Bond<D>,
     ) {
-        let x_ij = bond.reflection.component_mul(&x_k) + bond.offset - x_i;
-        let v_ij = bond.reflection.component_mul(&v_k) - v_i;
+        let (x_j, v_j) = bond.seen(x_k, v_k);
+        let x_ij = x_j + bond.offset - x_i;
+        let v_ij = v_j - v_i;
         let weighted = bond.kernel_gradient.transpose() * bond.volume;
         *separation_sum += x_ij * weighted;
         *velocity_sum += v_ij * weighted;
@@ -377,11 +397,18 @@ impl<const D: usize> PairEquation<D, Bond<D>> for PiolaForces<'_, D> {
         other: &StressSource<D>,
         bond: &Bond<D>,
     ) {
-        let x_ij = bond.reflection.component_mul(&other.position) + bond.offset - me.position;
-        let v_ij = bond.reflection.component_mul(&other.velocity) - me.velocity;
+        let (x_j, v_j) = bond.seen(other.position, other.velocity);
+        let x_ij = x_j + bond.offset - me.position;
+        let v_ij = v_j - me.velocity;
         // an image's tensors are its source's seen in the mirror (S A S)
-        let stress_j = mirrored(&other.corrected_stress, &bond.reflection);
-        let deformation_j = mirrored(&other.deformation, &bond.reflection);
+        let (stress_j, deformation_j) = if bond.reflected {
+            (
+                mirrored(&other.corrected_stress, &bond.reflection),
+                mirrored(&other.deformation, &bond.reflection),
+            )
+        } else {
+            (other.corrected_stress, other.deformation)
+        };
         let mut pair = (me.corrected_stress + stress_j)
             * bond.kernel_gradient
             * (self.volume[me.index] * bond.volume);
