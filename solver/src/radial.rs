@@ -745,6 +745,13 @@ impl<const D: usize> PairEquation<D, [f64; 3]> for RadialRates<'_> {
 mod tests {
     use super::*;
 
+    /// The names the command line takes and the records show (`sedov --geometry`).
+    #[test]
+    fn geometries_go_by_their_names() {
+        let names: Vec<&str> = Geometry::ALL.iter().map(|g| g.name()).collect();
+        assert_eq!(names, ["planar", "cylindrical", "spherical"]);
+    }
+
     /// The width holds the volume it was asked for, for thin rings and shells far out, thick
     /// ones that reach the origin and the innermost shell of an even lattice (to 10⁻¹¹: the
     /// test's own volume of a shell 10⁻⁴ r thin loses four digits to r₁² − r₀²).
