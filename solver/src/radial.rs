@@ -813,6 +813,31 @@ mod tests {
         }
     }
 
+    /// Two rings or shells at the origin: every point of one lies on the other, so the
+    /// average is the kernel's central value and, by symmetry, neither radius moves it.
+    #[test]
+    fn shells_at_the_origin_see_the_kernels_centre() {
+        let h = 0.5;
+        for (geometry, centre) in [
+            (
+                Geometry::Cylindrical,
+                Kernel::<2>::new(KernelShape::CubicSpline).value(0.0, h),
+            ),
+            (
+                Geometry::Spherical,
+                Kernel::<3>::new(KernelShape::CubicSpline).value(0.0, h),
+            ),
+        ] {
+            let kernel = RadialKernel::new(geometry, KernelShape::CubicSpline);
+            let (value, d_first, d_second) = kernel.value_and_derivatives(0.0, 0.0, h);
+            assert!(
+                (value / centre - 1.0).abs() < 1e-14,
+                "{geometry:?}: {value} against {centre}"
+            );
+            assert_eq!((d_first, d_second), (0.0, 0.0), "{geometry:?}");
+        }
+    }
+
     /// The quadrature's pieces end at the kernel's knots: for pairs whose distances cross h
     /// and 2h (gaps from h/10 to 2h) it agrees with the brute-force average to 2·10⁻⁹ of
     /// W(0) for every shape. Measured: at most 4.5·10⁻¹⁰ (the brute force's own error is
