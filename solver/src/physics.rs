@@ -886,10 +886,13 @@ impl KernelPairs {
         for (row, &i) in which.iter().enumerate() {
             self.row[i] = row as u32;
         }
-        self.chunks
-            .resize_with(which.len().div_ceil(PAIR_CHUNK), Vec::new);
+        // chunks beyond those in use keep their buffers for a later evaluation of more particles
+        let in_use = which.len().div_ceil(PAIR_CHUNK);
+        if self.chunks.len() < in_use {
+            self.chunks.resize_with(in_use, Vec::new);
+        }
         self.ends.resize(which.len(), 0);
-        self.chunks
+        self.chunks[..in_use]
             .par_iter_mut()
             .zip(self.ends.par_chunks_mut(PAIR_CHUNK))
             .zip(which.par_chunks(PAIR_CHUNK))
