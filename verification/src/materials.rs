@@ -302,6 +302,49 @@ mod tests {
         }
     }
 
+    /// The library's copper (Steinberg's Mie–Grüneisen parameters) against the measured shock
+    /// states of Marsh's LASL table (reference_data/hugoniot_copper_marsh1980.csv, 144 states,
+    /// 8–366 GPa). For each state the EOS gives the pressure at the measured compression
+    /// η = up/Us with the measured energy jump e = up²/2, and the Rayleigh line through that
+    /// pressure the shock speed Us = √(p/(ρ0 η)); the table's own Us is the reference.
+    /// Measured: mean deviation +0.11 %, rms 1.37 %, largest −4.4 % (+3.9 %). Limits: the mean
+    /// within 1 % (its standard error from the scatter is 0.11 %; C0 off by 2 % moves it to
+    /// ±1.5–1.7 %, S1 off by 5 % to ±1.7–2.1 %); the rms within 2 % and every state within 6 %,
+    /// limits set by the table's own scatter, not by the model: shots at the same particle
+    /// velocity differ in Us by up to 3.6 % (4.888 and 5.067 km/s at up ≈ 0.74 km/s). States on
+    /// the Hugoniot leave Γ0 nearly untested (doubled or zeroed it moves the mean by 0.02 %).
+    #[test]
+    fn copper_meets_the_measured_lasl_hugoniot() {
+        let copper = Library::standard().material("cu-ofhc").unwrap();
+        let rho0 = Library::standard().entry("cu-ofhc").unwrap().parameters["rho0"].value;
+        let table = include_str!("../../reference_data/hugoniot_copper_marsh1980.csv");
+        let deviations: Vec<f64> = table
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .map(|x| x.parse::<f64>().unwrap_or(f64::NAN))
+                    .collect()
+            })
+            .filter(|row: &Vec<f64>| row[2] > 0.0)
+            .map(|row| {
+                let (us, up) = (1e3 * row[1], 1e3 * row[2]);
+                let eta = up / us;
+                let p = copper.eos.pressure(rho0 / (1.0 - eta), 0.5 * up * up);
+                (p / (rho0 * eta)).sqrt() / us - 1.0
+            })
+            .collect();
+        assert_eq!(deviations.len(), 144);
+        let n = deviations.len() as f64;
+        let mean = deviations.iter().sum::<f64>() / n;
+        let rms = (deviations.iter().map(|d| d * d).sum::<f64>() / n).sqrt();
+        let largest = deviations.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        assert!(mean.abs() < 0.01, "mean {mean}");
+        assert!(rms < 0.02, "rms {rms}");
+        assert!(largest < 0.06, "largest {largest}");
+    }
+
     /// TNT from the library reproduces its own CJ pressure and detonation speed within 5 %.
     #[test]
     fn tnt_parameters_imply_their_chapman_jouguet_state() {
