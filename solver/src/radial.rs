@@ -393,7 +393,8 @@ pub(crate) struct ShellSource {
     mass: f64,
     density: f64,
     sound_speed: f64,
-    /// P = p/ρ², or p/ρ in the volume form (which divides by the partner's ρ in the pair).
+    /// P = −σ_rr/ρ², or −σ_rr/ρ in the volume form (which divides by the partner's ρ in the
+    /// pair): set by the rates' source; the density and divergence passes do not read it.
     pressure_term: f64,
     /// α_i/α_max of the viscosity switch (1 without it).
     alpha_factor: f64,
@@ -407,7 +408,7 @@ fn shell_source<const D: usize>(p: &Particles<D>, k: usize) -> ShellSource {
         mass: p.mass[k],
         density: p.density[k],
         sound_speed: p.sound_speed[k],
-        pressure_term: p.pressure[k] / (p.density[k] * p.density[k]),
+        pressure_term: 0.0,
         alpha_factor: 1.0,
     }
 }
