@@ -858,7 +858,8 @@ mod tests {
                         Geometry::Cylindrical => Kernel::<2>::new(shape).value(0.0, h),
                         _ => Kernel::<3>::new(shape).value(0.0, h),
                     };
-                    for (r_i, r_j) in [(0.3, 0.8), (0.7, 1.6), (0.2, 0.45), (0.05, 0.9)] {
+                    for (r_i, r_j) in [(0.3, 0.8), (0.7, 1.6), (0.2, 0.45), (0.05, 0.9), (0.2, 0.8)]
+                    {
                         let (r_i, r_j) = (r_i * length, r_j * length);
                         let gap2 = (r_i - r_j) * (r_i - r_j);
                         let got = kernel.quadrature(r_i, r_j, h, gap2, 4.0 * r_i * r_j).0;
