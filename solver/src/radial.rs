@@ -840,13 +840,12 @@ mod tests {
     }
 
     /// The quadrature's pieces end at the kernel's knots: for pairs whose distances cross h
-    /// and 2h (gaps from h/10 to 2h; at 1.7h a piece without the knot at 2h is off by
-    /// 5–8·10⁻⁹) it agrees with the brute-force average to 2·10⁻⁹ of
+    /// and 2h (gaps from h/10 to 2h) it agrees with the brute-force average to 2·10⁻⁹ of
     /// W(0) (the 2D kernel's for rings, the 3D kernel's for shells) for every shape, at
     /// h = 0.5 and with every length 1024 times shorter and longer. Measured: below
     /// 5·10⁻¹⁰ (the brute force's own error is about 10⁻¹⁰), while a Gauss piece
-    /// across the quintic spline's knot at 2h is off by 4–6·10⁻⁹, hence a limit within a
-    /// factor ten of the measured value.
+    /// across the quintic spline's knot at 2h is off by 4–8·10⁻⁹ (the most at the gap 1.7h),
+    /// hence a limit within a factor ten of the measured value.
     #[test]
     fn the_quadrature_follows_the_kernels_knots() {
         for length in [1.0 / 1024.0, 1.0, 1024.0] {
