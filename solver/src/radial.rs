@@ -839,6 +839,37 @@ mod tests {
         }
     }
 
+    /// A solid shell at the centre (r = 0) carries no hoop terms: v/r and s_rr/(ρ r) are taken
+    /// as 0 there (a shell of no radius has no hoop), so its rates stay finite; at rest with a
+    /// radial deviatoric stress they are all 0.
+    #[test]
+    fn a_shell_at_the_centre_has_no_hoop_terms() {
+        let init = [crate::particles::ParticleInit::<1> {
+            position: Vector::<1>::new(0.0),
+            velocity: Vector::<1>::new(0.0),
+            mass: 1.0,
+            smoothing_length: 0.1,
+            density: 2.0,
+            internal_energy: 0.0,
+            material: 0,
+        }];
+        let optional = crate::particles::OptionalFields {
+            stress: true,
+            ..Default::default()
+        };
+        let mut p = Particles::new(&init, optional);
+        p.deviatoric_stress[0][(0, 0)] = 5.0;
+        add_spherical_stress_terms(&mut p, 0, 0.0, &[10.0]);
+        assert_eq!(p.acceleration[0][0], 0.0);
+        assert_eq!(p.energy_rate[0], 0.0);
+        assert_eq!(p.strain_rate[0], 0.0);
+        assert!(
+            p.stress_rate[0].iter().all(|x| *x == 0.0),
+            "{}",
+            p.stress_rate[0]
+        );
+    }
+
     /// The quadrature's pieces end at the kernel's knots: for pairs whose distances cross h
     /// and 2h (gaps from h/10 to 2h) it agrees with the brute-force average to 2·10⁻⁹ of
     /// W(0) (the 2D kernel's for rings, the 3D kernel's for shells) for every shape, at
