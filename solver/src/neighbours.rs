@@ -47,6 +47,17 @@ pub struct NeighbourList {
 }
 
 impl NeighbourList {
+    /// The lists of particles 0, 1, … in turn, each in ascending index order.
+    pub(crate) fn from_lists(lists: impl IntoIterator<Item = Vec<u32>>) -> Self {
+        let mut offsets = vec![0];
+        let mut partners = Vec::new();
+        for list in lists {
+            partners.extend(list);
+            offsets.push(partners.len());
+        }
+        Self { offsets, partners }
+    }
+
     /// Particle i's partners, in ascending index order.
     #[inline]
     pub fn partners(&self, i: usize) -> &[u32] {

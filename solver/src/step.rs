@@ -81,11 +81,11 @@ pub enum TimeSteps {
     /// 4 of its neighbours' (see [`crate::block_steps`]); the longest at most `max_ratio` (a
     /// power of two) times the shortest. Particles between the ends of their steps are drifted
     /// and their state predicted, so that their neighbours see them at the current time.
-    /// Radial, Cartesian and axisymmetric scenes, without total-Lagrangian solids or periodic
-    /// sides (see [`SimulationConfig::validate`]); a waiting particle's Balsara factor is that
-    /// of its last force evaluation. With grad-h a waiting
-    /// particle's h is predicted from its last rate and its density is the one grad-h ties
-    /// to that h.
+    /// Radial, Cartesian and axisymmetric scenes and total-Lagrangian solids, without periodic
+    /// sides in planar ones; a waiting particle's Balsara factor is that of its last force
+    /// evaluation, and a waiting total-Lagrangian partner lends its stress at its predicted F
+    /// and s. With grad-h a waiting particle's h is predicted from its last rate and its
+    /// density is the one grad-h ties to that h.
     Individual { max_ratio: u64 },
 }
 
@@ -153,17 +153,6 @@ impl SimulationConfig {
                     "time_steps max_ratio",
                     max_ratio,
                     &format!("a power of two from 2 to {}", TimeSteps::MAX_RATIO),
-                ));
-            }
-            // what each particle's own step is not yet built for: the bonds of
-            // total-Lagrangian solids are read from every partner
-            if self.formulation.is_total_lagrangian() {
-                return Err(SolverError::invalid(
-                    "time_steps",
-                    "individual",
-                    "global with total-Lagrangian solids: individual steps are built for \
-                     radial, axisymmetric and Cartesian scenes of fluids and updated-Lagrangian \
-                     solids",
                 ));
             }
         }
@@ -620,7 +609,10 @@ impl<const D: usize> Simulation<D> {
             config,
             kernel,
             radial_kernel,
-            neighbours: NeighbourList::default(),
+            // a total-Lagrangian scene's partners are its bonds', for the limiter
+            neighbours: reference
+                .as_ref()
+                .map_or_else(NeighbourList::default, |r| r.partner_lists()),
             half: HalfStep::default(),
             time: 0.0,
             steps: 0,
@@ -979,27 +971,31 @@ impl<const D: usize> Simulation<D> {
         self.drift_on_half_steps(dt);
         self.times.integration += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        // the limiter reads the partners the kernel reaches at the drifted positions
-        self.keep_or_search_lists();
+        // the limiter reads the partners the kernel reaches at the drifted positions (a
+        // total-Lagrangian scene's bonds are fixed)
+        if self.reference.is_none() {
+            self.keep_or_search_lists();
+        }
+        self.times.neighbours += start.elapsed().as_secs_f64();
+        let start = Instant::now();
         let active = self.ending_and_woken(&mut blocks);
         let active = self.let_out_departing(&active, Some(&mut blocks));
-        // every particle's state at this time: a gauge may read any of them
+        // every particle's predicted state at this time: a gauge may read any of them
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
         self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
-        let found = self.find_smoothing_lengths_and_neighbours(&all, &active);
-        self.times.neighbours += start.elapsed().as_secs_f64();
-        if let Err(error) = found {
-            self.blocks = Some(blocks);
-            return Err(error);
-        }
-        let start = Instant::now();
-        self.evaluate_density(&all);
-        self.evaluate_state(self.time, &all);
-        self.particles.refresh_image_state();
-        self.times.density += start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        let books = self.evaluate_rates_of(self.time, &active, |i| blocks.step_of(i));
-        self.times.forces += start.elapsed().as_secs_f64();
+        self.times.integration += start.elapsed().as_secs_f64();
+        let books = if self.reference.is_some() {
+            self.evaluate_bond_rates(&active)
+        } else {
+            self.evaluate_kernel_rates(self.time, (&all, &active), |i| blocks.step_of(i))
+        };
+        let books = match books {
+            Ok(books) => books,
+            Err(error) => {
+                self.blocks = Some(blocks);
+                return Err(error);
+            }
+        };
         let start = Instant::now();
         self.close_kick(&active, |i| 0.5 * blocks.step_of(i));
         // the closing half of each step at its end's rates; the opening half of the next at
@@ -1061,6 +1057,10 @@ impl<const D: usize> Simulation<D> {
         let p = &self.particles;
         let (n, x, h) = (p.n_real(), &p.position, &p.smoothing_length);
         let reaches = |j: usize| {
+            if self.reference.is_some() {
+                // a bond acts at any length
+                return true;
+            }
             let h_pair = 0.5 * (h[i] + h[j]);
             match &self.radial_kernel {
                 Some(kernel) => kernel.reaches(x[i][0], x[j][0], h_pair),
@@ -1438,39 +1438,64 @@ impl<const D: usize> Simulation<D> {
     /// images and neighbours → density → equation of state (× burn fraction), copied onto the
     /// images → the pair passes. Total-Lagrangian solids do it all in one pass over their bonds.
     fn evaluate_rates(&mut self, time: f64) -> Result<(), SolverError> {
-        if let (Some(reference), Formulation::TotalLagrangian { hourglass }) =
-            (&self.reference, self.config.formulation)
-        {
-            let start = Instant::now();
-            let totals = reference.evaluate(
-                &mut self.particles,
-                &self.materials,
-                &self.config.viscosity,
-                hourglass,
-            );
-            self.times.forces += start.elapsed().as_secs_f64();
-            self.totals =
-                totals.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))?;
-            return Ok(());
-        }
-        let start = Instant::now();
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
-        self.find_smoothing_lengths_and_neighbours(&all, &all)?;
-        self.times.neighbours += start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        self.evaluate_density(&all);
-        self.evaluate_state(time, &all);
-        self.particles.refresh_image_state();
-        self.times.density += start.elapsed().as_secs_f64();
-        let start = Instant::now();
         let dt = time - self.time;
-        self.books = self.evaluate_rates_of(time, &all, |_| dt);
+        self.books = if self.reference.is_some() {
+            self.evaluate_bond_rates(&all)?
+        } else {
+            self.evaluate_kernel_rates(time, (&all, &all), |_| dt)?
+        };
         self.totals = RateTotals::default();
         for share in &self.books {
             self.totals += share;
         }
-        self.times.forces += start.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// The rates of the real particles `which` (ascending) of a total-Lagrangian scene, in one
+    /// pass over their bonds that also brings their partners' state to this time; each one's
+    /// share of the rate totals (in `which`'s order).
+    fn evaluate_bond_rates(&mut self, which: &[usize]) -> Result<Vec<RateTotals<D>>, SolverError> {
+        let (Some(reference), Formulation::TotalLagrangian { hourglass }) =
+            (&self.reference, self.config.formulation)
+        else {
+            unreachable!("a scene with a reference configuration is total-Lagrangian")
+        };
+        let start = Instant::now();
+        let books = reference.evaluate(
+            &mut self.particles,
+            &self.materials,
+            &self.config.viscosity,
+            hourglass,
+            which,
+        );
+        self.times.forces += start.elapsed().as_secs_f64();
+        books.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))
+    }
+
+    /// The state at `time` of the real particles `all` (h, images and neighbour lists, density,
+    /// the equation of state), of which grad-h solves `solved` (see
+    /// [`Self::find_smoothing_lengths_and_neighbours`]), then the rates of `solved`, whose
+    /// steps (of length `dt(i)`) end at `time`, and each one's share of the rate totals.
+    fn evaluate_kernel_rates(
+        &mut self,
+        time: f64,
+        (all, solved): (&[usize], &[usize]),
+        dt: impl Fn(usize) -> f64,
+    ) -> Result<Vec<RateTotals<D>>, SolverError> {
+        let start = Instant::now();
+        let found = self.find_smoothing_lengths_and_neighbours(all, solved);
+        self.times.neighbours += start.elapsed().as_secs_f64();
+        found?;
+        let start = Instant::now();
+        self.evaluate_density(all);
+        self.evaluate_state(time, all);
+        self.particles.refresh_image_state();
+        self.times.density += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let books = self.evaluate_rates_of(time, solved, dt);
+        self.times.forces += start.elapsed().as_secs_f64();
+        Ok(books)
     }
 
     /// The rates of the real particles `which`, whose steps (of length `dt(i)`) end at `time`,

@@ -41,7 +41,7 @@
 use crate::boundary::Domain;
 use crate::eos::Material;
 use crate::kernel::Kernel;
-use crate::neighbours::{find_neighbours, PairReach};
+use crate::neighbours::{find_neighbours, NeighbourList, PairReach};
 use crate::pairs::{self, PairEquation, Partners};
 use crate::particles::{mirrored, Particles};
 use crate::physics::{ArtificialViscosity, RateTotals};
@@ -210,26 +210,68 @@ impl<const D: usize> ReferenceConfiguration<D> {
         &self.bonds[self.offsets[i]..self.offsets[i + 1]]
     }
 
-    /// F and Ḟ of every particle's neighbourhood.
-    fn kinematics(&self, p: &Particles<D>) -> Vec<Kinematics<D>> {
-        pairs::gather(&Deformation { reference: self }, p, &Bonds(self))
+    /// Each particle's partners: the real particles its bonds join it to, themselves or
+    /// through a mirror, other than itself. Bonds are symmetric, and so are these lists.
+    pub(crate) fn partner_lists(&self) -> NeighbourList {
+        NeighbourList::from_lists((0..self.volume.len()).map(|i| {
+            let mut partners: Vec<u32> = self
+                .bonds_of(i)
+                .iter()
+                .map(|bond| bond.other)
+                .filter(|&j| j as usize != i)
+                .collect();
+            partners.sort_unstable();
+            partners.dedup();
+            partners
+        }))
     }
 
-    /// Density, pressure, sound speed, stress rate and the forces and energy rates of every
-    /// particle (all real: this formulation makes no images). A neighbourhood turned inside out
-    /// (det F ≤ 0) stops with the particle's index and det F.
+    /// The particles whose state the rates of `which` (ascending) read: they and their bonds'
+    /// partners, ascending.
+    fn with_partners(&self, which: &[usize]) -> Vec<usize> {
+        let mut read = vec![false; self.volume.len()];
+        for &i in which {
+            read[i] = true;
+            for bond in self.bonds_of(i) {
+                read[bond.other as usize] = true;
+            }
+        }
+        (0..read.len()).filter(|&k| read[k]).collect()
+    }
+
+    /// Density, pressure, sound speed and h of the particles the rates of the real particles
+    /// `which` (ascending) read (they and their bonds' partners), then the stress rates, forces
+    /// and energy rates of `which` alone, and each one's share of the rate totals (in `which`'s
+    /// order). All particles are real: this formulation makes no images. A neighbourhood turned
+    /// inside out (det F ≤ 0) stops with the particle's index and det F.
     pub(crate) fn evaluate(
         &self,
         p: &mut Particles<D>,
         materials: &[Material],
         viscosity: &ArtificialViscosity,
         hourglass: f64,
-    ) -> Result<RateTotals<D>, (usize, &'static str, f64)> {
+        which: &[usize],
+    ) -> Result<Vec<RateTotals<D>>, (usize, &'static str, f64)> {
         let n = self.volume.len();
-        let kinematics = self.kinematics(p);
-        let mut states = Vec::with_capacity(n);
-        let mut viscous_heating = 0.0;
-        for (i, kin) in kinematics.iter().enumerate() {
+        let read = if which.len() == n {
+            which.to_vec()
+        } else {
+            self.with_partners(which)
+        };
+        let kinematics = pairs::gather_at(&Deformation { reference: self }, p, &Bonds(self), &read);
+        let mut rated = vec![false; n];
+        for &i in which {
+            rated[i] = true;
+        }
+        // a particle outside `read` is no partner of `which`: its entry is never read
+        let unread = PiolaState {
+            corrected_stress: Tensor::zeros(),
+            deformation: Tensor::zeros(),
+            young: 0.0,
+        };
+        let mut states = vec![unread; n];
+        let mut viscous_heating = vec![0.0; n];
+        for (&i, kin) in read.iter().zip(&kinematics) {
             let jacobian = determinant(&kin.deformation);
             let inverse = invert(&kin.deformation).filter(|_| jacobian > 0.0);
             let Some(inverse) = inverse else {
@@ -261,36 +303,41 @@ impl<const D: usize> ReferenceConfiguration<D> {
                 * spacing
                 * compression
                 * (viscosity.alpha * p.sound_speed[i] + viscosity.beta * spacing * compression);
-            viscous_heating += p.mass[i] * q * compression / rho;
-            p.strain_rate[i] = equivalent_strain_rate(&strain_rate, 0.0);
             let s = p.deviatoric_stress[i];
-            p.stress_rate[i] = jaumann_rate(g, &s, &velocity_gradient, 0.0);
             let cauchy = s - Tensor::<D>::identity() * (p.pressure[i] + q);
             let piola = cauchy * inverse.transpose() * jacobian;
-            p.energy_rate[i] =
-                self.volume[i] * piola.component_mul(&kin.deformation_rate).sum() / p.mass[i];
-            states.push(PiolaState {
+            if rated[i] {
+                viscous_heating[i] = p.mass[i] * q * compression / rho;
+                p.strain_rate[i] = equivalent_strain_rate(&strain_rate, 0.0);
+                p.stress_rate[i] = jaumann_rate(g, &s, &velocity_gradient, 0.0);
+                p.energy_rate[i] =
+                    self.volume[i] * piola.component_mul(&kin.deformation_rate).sum() / p.mass[i];
+            }
+            states[i] = PiolaState {
                 corrected_stress: piola * self.correction[i],
                 deformation: kin.deformation,
                 young,
-            });
+            };
         }
         let forces = PiolaForces {
             volume: &self.volume,
             states: &states,
             hourglass,
         };
-        let rates = pairs::gather(&forces, p, &Bonds(self));
-        let mut totals = RateTotals::default();
-        for (i, (force, wall, heating, approach)) in rates.into_iter().enumerate() {
+        let rates = pairs::gather_at(&forces, p, &Bonds(self), which);
+        let mut books = Vec::with_capacity(which.len());
+        for (&i, (force, wall, heating, approach)) in which.iter().zip(rates) {
             p.acceleration[i] = force / p.mass[i];
             p.energy_rate[i] += heating / p.mass[i];
             p.signal_speed[i] = p.sound_speed[i] + approach;
-            totals.wall_force += wall;
-            totals.hourglass_heating += heating;
+            books.push(RateTotals {
+                wall_force: wall,
+                viscous_heating: viscous_heating[i],
+                hourglass_heating: heating,
+                ..RateTotals::default()
+            });
         }
-        totals.viscous_heating = viscous_heating;
-        Ok(totals)
+        Ok(books)
     }
 }
 
@@ -511,6 +558,22 @@ mod tests {
     use crate::kernel::KernelShape;
     use crate::particles::{OptionalFields, ParticleInit};
 
+    /// The rates of every particle, and their totals.
+    fn evaluate_all(
+        reference: &ReferenceConfiguration<3>,
+        p: &mut Particles<3>,
+        materials: &[Material],
+        viscosity: &ArtificialViscosity,
+        hourglass: f64,
+    ) -> Result<RateTotals<3>, (usize, &'static str, f64)> {
+        let all: Vec<usize> = (0..p.n_real()).collect();
+        let mut totals = RateTotals::default();
+        for share in &reference.evaluate(p, materials, viscosity, hourglass, &all)? {
+            totals += share;
+        }
+        Ok(totals)
+    }
+
     /// The symmetry plane of [`block`]: off the origin, so that the mirror's offset counts.
     const MIRROR_X: f64 = 0.4;
 
@@ -578,14 +641,14 @@ mod tests {
             p.position[k][1] += amplitude * scale * if parity == 0 { 1.0 } else { -1.0 };
             p.velocity[k] = velocity(k);
         }
-        let totals = reference
-            .evaluate(
-                &mut p,
-                std::slice::from_ref(material),
-                &ArtificialViscosity::default(),
-                hourglass,
-            )
-            .unwrap();
+        let totals = evaluate_all(
+            &reference,
+            &mut p,
+            std::slice::from_ref(material),
+            &ArtificialViscosity::default(),
+            hourglass,
+        )
+        .unwrap();
         (p, totals)
     }
 
@@ -609,7 +672,14 @@ mod tests {
             p.velocity[i] = b * x;
             p.position[i] = a * x + shift + mirror;
         }
-        for (i, kin) in reference.kinematics(&p).iter().enumerate() {
+        let kinematics = pairs::gather(
+            &Deformation {
+                reference: &reference,
+            },
+            &p,
+            &Bonds(&reference),
+        );
+        for (i, kin) in kinematics.iter().enumerate() {
             assert!(
                 (kin.deformation - a).norm() < 1e-12,
                 "F at {i}: {}",
@@ -653,9 +723,14 @@ mod tests {
         let shear_modulus = 1.5;
         let material = solid(4.0, shear_modulus);
         let viscosity = ArtificialViscosity::default();
-        let totals = reference
-            .evaluate(&mut p, std::slice::from_ref(&material), &viscosity, 1.0)
-            .unwrap();
+        let totals = evaluate_all(
+            &reference,
+            &mut p,
+            std::slice::from_ref(&material),
+            &viscosity,
+            1.0,
+        )
+        .unwrap();
         let close = |x: f64, expected: f64, what: &str| {
             assert!(
                 (x - expected).abs() <= 1e-9 * expected.abs().max(1e-12),
@@ -804,14 +879,14 @@ mod tests {
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
         p.position[1] = p.position[0];
-        reference
-            .evaluate(
-                &mut p,
-                &[solid(1.0, 1.0)],
-                &ArtificialViscosity::default(),
-                1.0,
-            )
-            .unwrap();
+        evaluate_all(
+            &reference,
+            &mut p,
+            &[solid(1.0, 1.0)],
+            &ArtificialViscosity::default(),
+            1.0,
+        )
+        .unwrap();
         for k in 0..p.n_real() {
             assert!(
                 p.acceleration[k].iter().all(|a| a.is_finite()),
