@@ -2167,12 +2167,14 @@ mod tests {
         }
     }
 
-    /// Gas shells of unit density on an uneven lattice (widths 0.8–1.2 dr) with the given
-    /// velocities, XSPH's ε = 0.5, their rates evaluated.
+    /// Gas shells of density 2 on an uneven lattice (widths 0.8–1.2 m) with the given
+    /// velocities, XSPH's ε = 0.5, their rates evaluated. Each shell's mass exceeds the
+    /// density's value, so that m_j/ρ̄ tells apart m_j ρ̄ and the remainder of m_j by ρ̄.
     fn xsph_shells(velocities: &[f64], time_steps: TimeSteps) -> Simulation<1> {
         use crate::random::SplitMix64;
         let mut rng = SplitMix64::new(7);
-        let dr = 0.01;
+        let dr = 1.0;
+        let density = 2.0;
         let mut r0 = 0.0;
         let init: Vec<ParticleInit<1>> = velocities
             .iter()
@@ -2181,9 +2183,9 @@ mod tests {
                 let shell = ParticleInit {
                     position: Vector::<1>::new(0.5 * (r0 + r1)),
                     velocity: Vector::<1>::new(v),
-                    mass: Geometry::Spherical.volume_between(r0, r1),
+                    mass: density * Geometry::Spherical.volume_between(r0, r1),
                     smoothing_length: 2.0 * dr,
-                    density: 1.0,
+                    density,
                     internal_energy: 1.0,
                     material: 0,
                 };
@@ -2233,6 +2235,91 @@ mod tests {
         let want = 0.5 * p.mass[1] / (0.5 * (p.density[0] + p.density[1])) * (-2.0 - 1.0) * w;
         let got = p.xsph_velocity[0][0];
         assert!((got / want - 1.0).abs() < 1e-14, "{got} for {want}");
+    }
+
+    /// Two gas shells (ρ = 2, e = 1) approaching each other far from the origin: the artificial
+    /// viscosity adds −m_j Π_ij (∂W̃/∂r_i − ∂W̃/∂r_j)/2 to shell i's acceleration, Π_ij
+    /// Monaghan's (α = 2, β = 2) at the pair's mean h, sound speed and density, scaled by the
+    /// mean of the two shells' α over α_max where the viscosity switch holds them: the same
+    /// with both at α_max, three quarters of it with α = 2 and 1 (to 1e-12 of the term: the
+    /// difference of two accelerations that share the pressure terms).
+    #[test]
+    fn shells_feel_the_viscosity_of_their_mean_h_sound_speed_density_and_alpha() {
+        let shells = |viscosity: ArtificialViscosity, alpha: Option<[f64; 2]>| {
+            let init: Vec<ParticleInit<1>> = [(10.0, 1.0, 1.0), (10.9, -1.5, 1.2)]
+                .iter()
+                .map(|&(r, v, h)| ParticleInit {
+                    position: Vector::<1>::new(r),
+                    velocity: Vector::<1>::new(v),
+                    mass: 2.0 * Geometry::Spherical.volume_between(r - 0.45, r + 0.45),
+                    smoothing_length: h,
+                    density: 2.0,
+                    internal_energy: 1.0,
+                    material: 0,
+                })
+                .collect();
+            let config = SimulationConfig {
+                formulation: Formulation::Spherical(ShellDensity::Continuity(
+                    SmoothingLength::Fixed,
+                )),
+                viscosity,
+                ..SimulationConfig::default()
+            };
+            let gas = vec![Material::new("gas", IdealGas::new(1.4).unwrap())];
+            let mut sim = Simulation::new(&init, gas, Domain::open(), config).unwrap();
+            if let Some(alpha) = alpha {
+                sim.particles.viscosity_alpha = alpha.to_vec();
+                sim.evaluate_rates(0.0).unwrap();
+            }
+            sim
+        };
+        let viscous = ArtificialViscosity {
+            alpha: 2.0,
+            ..ArtificialViscosity::default()
+        };
+        let inviscid = shells(
+            ArtificialViscosity {
+                alpha: 0.0,
+                beta: 0.0,
+                ..viscous
+            },
+            None,
+        );
+        let p = &inviscid.particles;
+        let kernel = inviscid.radial_kernel.as_ref().unwrap();
+        let (r, h) = (
+            [p.position[0][0], p.position[1][0]],
+            0.5 * (p.smoothing_length[0] + p.smoothing_length[1]),
+        );
+        let (_, d1, d2) = kernel.value_and_derivatives(r[0], r[1], h);
+        let pi = viscous.pi(
+            (p.velocity[0][0] - p.velocity[1][0]) * (r[0] - r[1]),
+            (r[0] - r[1]).powi(2),
+            h,
+            0.5 * (p.sound_speed[0] + p.sound_speed[1]),
+            0.5 * (p.density[0] + p.density[1]),
+        );
+        let term = -p.mass[1] * pi * 0.5 * (d1 - d2);
+        assert!(term.abs() > 1e-3 * p.acceleration[0][0].abs(), "{term}");
+        let switch = ArtificialViscosity {
+            switch: Some(ViscositySwitch {
+                alpha_min: 0.1,
+                decay: ViscositySwitch::DECAY,
+            }),
+            ..viscous
+        };
+        for (sim, share) in [
+            (shells(viscous, None), 1.0),
+            (shells(switch, Some([2.0, 2.0])), 1.0),
+            (shells(switch, Some([2.0, 1.0])), 0.75),
+        ] {
+            let added = sim.particles.acceleration[0][0] - p.acceleration[0][0];
+            assert!(
+                (added - share * term).abs() < 1e-12 * term.abs(),
+                "{added} for {}",
+                share * term
+            );
+        }
     }
 
     /// With individual time steps each shell drifts on the velocity of its own half step plus
