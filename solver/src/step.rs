@@ -84,8 +84,9 @@ pub enum TimeSteps {
     /// Radial, Cartesian and axisymmetric scenes and total-Lagrangian solids, without periodic
     /// sides in planar ones; a waiting particle's Balsara factor is that of its last force
     /// evaluation, and a waiting total-Lagrangian partner lends its stress at its predicted F
-    /// and s. With grad-h a waiting particle's h is predicted from its last rate and its
-    /// density is the one grad-h ties to that h.
+    /// and s (a waiting total-Lagrangian particle no active one reads keeps the density,
+    /// pressure and h of its last evaluation). With grad-h a waiting particle's h is predicted
+    /// from its last rate and its density is the one grad-h ties to that h.
     Individual { max_ratio: u64 },
 }
 
