@@ -263,7 +263,8 @@ impl<const D: usize> ReferenceConfiguration<D> {
         for &i in which {
             rated[i] = true;
         }
-        // a particle outside `read` is no partner of `which`: its entry is never read
+        // a particle outside `read` is no partner of `which`: no pair uses its entry (a pass
+        // over many particles still packs it into its source)
         let unread = PiolaState {
             corrected_stress: Tensor::zeros(),
             deformation: Tensor::zeros(),
