@@ -113,7 +113,7 @@ fn info(model: Model) -> super::ProblemInfo {
     let (summary, quick, full, solids, step_ratio) = match model {
         Model::Axisymmetric => (
             "copper Taylor bar, 227 m/s, axisymmetric rings in (r, z)",
-            "6,12",
+            "5,10",
             "12,16,24",
             "updated",
             16,
