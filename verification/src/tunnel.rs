@@ -2040,15 +2040,18 @@ mod tests {
 
     /// The full level's scene builds for the study's default cases: its bodies fill without
     /// a spacing jump above 2 at any contact, and its gauges read the lining at the crown and
-    /// the invert on the vertical through the charge and the soil beside the crown.
+    /// the invert on the vertical through the charge and the soil beside the crown. The cases
+    /// build in parallel (each build is serial).
     #[test]
     fn the_quarter_model_builds_with_its_gauges_in_place() {
+        use rayon::prelude::*;
         let tunnel = Tunnel::default();
         let soil = Soil::default();
-        for (depth_m, charge_kg) in [10.0, 15.0, 20.0]
+        let cases: Vec<(f64, f64)> = [10.0, 15.0, 20.0]
             .into_iter()
             .flat_map(|d| [500.0, 1000.0, 5000.0].map(|w| (d, w)))
-        {
+            .collect();
+        cases.into_par_iter().for_each(|(depth_m, charge_kg)| {
             let case = Case { depth_m, charge_kg };
             let text = quarter_model_scene(case, &soil, tunnel, FULL, 0.01);
             let scene = Scene::parse(&text).unwrap();
@@ -2071,7 +2074,7 @@ mod tests {
                 .unwrap();
             assert!(body_of.iter().filter(|&&b| b == lining).count() > 1000);
             assert!(init.len() < 400_000, "{}", init.len());
-        }
+        });
     }
 
     /// `ground-shock-surface`, which the gate runs, checks the free field this study runs: at
