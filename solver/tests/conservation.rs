@@ -208,7 +208,15 @@ fn resumed_run_continues_bitwise<const D: usize>(case: &str, build: impl Fn() ->
     steps(&mut straight, 30);
     let mut first = build();
     steps(&mut first, 11);
-    let bytes = bincode::serialize(&first.checkpoint()).unwrap();
+    let checkpoint = first.checkpoint();
+    // the checkpoint keeps the run's clock (after 11 steps: above 0, far below 1)
+    assert_eq!(checkpoint.time(), first.time(), "{case}");
+    assert!(
+        first.time() > 0.0 && first.time() < 0.5,
+        "{case}: {}",
+        first.time()
+    );
+    let bytes = bincode::serialize(&checkpoint).unwrap();
     drop(first);
     let mut resumed = build();
     resumed
