@@ -501,12 +501,12 @@ fn curves(csv: &Path) -> Value {
 }
 
 /// The tunnel study's quick model on its review case, the crown 10 m below 500 kg: the
-/// physical checks the study makes (arrival no
-/// sooner than the fastest wave allows and within 30 % of the free field's at the crown,
-/// energy within 1 % of what the band brought in, the section without the tunnel within 30 %
-/// of the free field), then its crown and invert curves and its summary row, to three
-/// significant digits, against the reviewed snapshot `tests/snapshots/verification_quick__quick-10m-500kg.snap` (a
-/// change of the physics shows as a diff in `cargo insta review`; the snapshot checks nothing).
+/// physical checks the study makes (arrival no sooner than the fastest wave allows and within
+/// 30 % of the free field's at the crown, energy within 1 % of what the band brought in, the
+/// section without the tunnel within 30 % of the free field), then its crown and invert curves
+/// and its summary row, to three significant digits, against the reviewed snapshot
+/// `tests/snapshots/verification_quick__quick-10m-500kg.snap` (a change of the physics shows
+/// as a diff in `cargo insta review`; the snapshot checks nothing).
 #[test]
 fn a_tunnel_10m_below_500kg_passes_the_studys_checks_and_matches_its_curves() {
     let out = std::env::temp_dir().join(format!("blastsph-tunnel-review-{}", std::process::id()));
