@@ -1,6 +1,5 @@
 //! The quick level of the canonical problems, exactly as `blastsph verify` runs them, and the
-//! tunnel study's quick model on its review case (in one test binary, so that the case runs
-//! beside the problems rather than alone after them).
+//! tunnel study's quick model on its review case.
 
 use blastsph_verification::scene::Checkpoints;
 use blastsph_verification::surface_burst::Soil;
@@ -9,7 +8,7 @@ use blastsph_verification::{problems, Level};
 use serde_json::{json, Value};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 fn run(name: &str, overrides: &[(&str, &str)]) -> blastsph_verification::record::ProblemOutput {
     let overrides: Vec<(String, String)> = overrides
@@ -22,7 +21,7 @@ fn run(name: &str, overrides: &[(&str, &str)]) -> blastsph_verification::record:
 }
 
 /// Every check passed; and the record, to three significant digits and without its wall
-/// times, matches the reviewed snapshot in `tests/snapshots/` (a changed number shows as a
+/// times, matches the reviewed snapshot in `snapshots/` (a changed number shows as a
 /// diff to review; the snapshot verifies nothing, the checks do).
 fn assert_all_checks_pass(output: &blastsph_verification::record::ProblemOutput) {
     assert_checks(output, false);
@@ -505,7 +504,7 @@ fn curves(csv: &Path) -> Value {
 /// 30 % of the free field's at the crown, energy within 1 % of what the band brought in, the
 /// section without the tunnel within 30 % of the free field), then its crown and invert curves
 /// and its summary row, to three significant digits, against the reviewed snapshot
-/// `tests/snapshots/verification_quick__quick-10m-500kg.snap` (a change of the physics shows
+/// `snapshots/integration__verification_quick__quick-10m-500kg.snap` (a change of the physics shows
 /// as a diff in `cargo insta review`; the snapshot checks nothing).
 #[test]
 fn a_tunnel_10m_below_500kg_passes_the_studys_checks_and_matches_its_curves() {
