@@ -2443,6 +2443,154 @@ mod tests {
         }
     }
 
+    /// A line of ten particles, 1 m apart at density 1: five of gas, then five of an elastic
+    /// solid (material 1), with the initial `state`.
+    fn gas_then_solid(
+        config: SimulationConfig,
+        state: InitialState<1>,
+    ) -> Result<Simulation<1>, SolverError> {
+        use crate::eos::MieGruneisen;
+        use crate::strength::Strength;
+        let init: Vec<ParticleInit<1>> = (0..10)
+            .map(|k| ParticleInit {
+                position: Vector::<1>::new(k as f64),
+                velocity: Vector::<1>::zeros(),
+                mass: 1.0,
+                smoothing_length: 1.5,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: u16::from(k >= 5),
+            })
+            .collect();
+        let solid = Material::new(
+            "solid",
+            MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap(),
+        )
+        .with_strength(Strength::elastic(1.0).unwrap());
+        let gas = Material::new("gas", IdealGas::new(1.4).unwrap());
+        Simulation::with_initial_state(&init, vec![gas, solid], Domain::open(), config, state)
+    }
+
+    #[derive(Debug)]
+    struct NoMotion;
+    impl PrescribedMotion<1> for NoMotion {
+        fn acceleration(&self, _: u32, _: f64) -> Option<Vector<1>> {
+            None
+        }
+    }
+    impl ExternalLoad<1> for NoMotion {
+        fn acceleration(&self, _: u32, _: f64) -> Option<Vector<1>> {
+            None
+        }
+    }
+
+    /// What an initial state adds must fit the scene, or the scene is refused by name: one
+    /// lighting time and one deviatoric stress per particle, each stress finite and zero in a
+    /// fluid, and no external force (held equilibrium, prescribed motion or a load, each on its
+    /// own) in a total-Lagrangian scene, whose bond pass has none. What fits is accepted: a
+    /// finite stress in a solid, zeros in the gas.
+    #[test]
+    fn an_initial_state_that_does_not_fit_the_scene_is_refused_by_name() {
+        let planar = SimulationConfig::default;
+        let refused = |config: SimulationConfig, state: InitialState<1>, name: &str| {
+            let error = gas_then_solid(config, state).expect_err(name).to_string();
+            assert!(error.contains(name), "{name}: {error}");
+        };
+        let burn = |count: usize| ProgrammedBurn {
+            lighting_time: vec![f64::NEG_INFINITY; count],
+            speed: 1.0,
+            ramp_lengths: 1.0,
+        };
+        for count in [9, 11] {
+            let state = InitialState {
+                burn: Some(burn(count)),
+                ..InitialState::default()
+            };
+            refused(planar(), state, "lighting times");
+        }
+        let total_lagrangian = || SimulationConfig {
+            formulation: Formulation::TotalLagrangian { hourglass: 0.0 },
+            ..planar()
+        };
+        let external = "held in equilibrium, prescribed motion or an external load";
+        for state in [
+            InitialState {
+                held_in_equilibrium: true,
+                ..InitialState::default()
+            },
+            InitialState {
+                prescribed: Some(std::sync::Arc::new(NoMotion)),
+                ..InitialState::default()
+            },
+            InitialState {
+                load: Some(std::sync::Arc::new(NoMotion)),
+                ..InitialState::default()
+            },
+        ] {
+            refused(total_lagrangian(), state, external);
+        }
+        let with_stress = |stress: Vec<Tensor<1>>| InitialState {
+            deviatoric_stress: Some(stress),
+            ..InitialState::default()
+        };
+        let fitting = |k: usize| Tensor::<1>::from_element(if k >= 5 { -2.0 } else { 0.0 });
+        refused(
+            planar(),
+            with_stress((0..9).map(fitting).collect()),
+            "initial deviatoric stresses",
+        );
+        for (k, wrong) in [(2, 1.0), (7, f64::NAN), (7, f64::INFINITY)] {
+            let mut stress: Vec<Tensor<1>> = (0..10).map(fitting).collect();
+            stress[k] = Tensor::<1>::from_element(wrong);
+            let name = format!("initial deviatoric stress of particle {k}");
+            refused(planar(), with_stress(stress), &name);
+        }
+        let sim = gas_then_solid(planar(), with_stress((0..10).map(fitting).collect())).unwrap();
+        assert_eq!(sim.particles.deviatoric_stress[7][(0, 0)], -2.0);
+        gas_then_solid(planar(), InitialState::default()).unwrap();
+    }
+
+    /// A programmed burn releases a charge's pressure from its lighting time on: at t = 0 the
+    /// particles lit at −∞ (not explosive) carry their gas's full pressure, (γ − 1)ρe = 0.4,
+    /// and the five lit one second later none.
+    #[test]
+    fn a_programmed_burn_holds_back_the_pressure_until_lighting() {
+        let init: Vec<ParticleInit<1>> = (0..10)
+            .map(|k| ParticleInit {
+                position: Vector::<1>::new(k as f64),
+                velocity: Vector::<1>::zeros(),
+                mass: 1.0,
+                smoothing_length: 1.5,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            })
+            .collect();
+        let burn = ProgrammedBurn {
+            lighting_time: (0..10)
+                .map(|k| if k < 5 { f64::NEG_INFINITY } else { 1.0 })
+                .collect(),
+            speed: 1.0,
+            ramp_lengths: 1.0,
+        };
+        let config = SimulationConfig {
+            formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::Fixed)),
+            ..SimulationConfig::default()
+        };
+        let gas = vec![Material::new("gas", IdealGas::new(1.4).unwrap())];
+        let sim =
+            Simulation::with_programmed_burn(&init, gas, Domain::open(), config, burn).unwrap();
+        let p = &sim.particles;
+        for i in 0..10 {
+            let expected = if i < 5 { 0.4 } else { 0.0 };
+            assert!(
+                (p.pressure[i] - expected).abs() < 1e-12,
+                "{i}: {}",
+                p.pressure[i]
+            );
+        }
+    }
+
     // the cavity's radius a, the shell's outer radius b, the shells' width, the cavity's
     // pressure P and the solid's density
     const LAME_INNER: f64 = 0.5;
