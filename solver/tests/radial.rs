@@ -189,13 +189,16 @@ fn radial_scenes_reject_what_they_cannot_represent() {
     .unwrap();
     let err = Simulation::new(&[shell(0.5)], gas(), transmitting, radial).unwrap_err();
     assert!(err.to_string().contains("Transmitting"), "{err}");
-    // solids: in spheres, clear of the origin; not in cylinders
+    // solids: in spheres, at least their smoothing length (0.1) from the origin; not in
+    // cylinders
     let solid = || {
         let eos = blastsph_solver::MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY);
         let strength = blastsph_solver::Strength::elastic(1.0).unwrap();
         vec![Material::new("solid", eos.unwrap()).with_strength(strength)]
     };
-    assert!(Simulation::new(&[shell(0.5)], solid(), Domain::open(), radial).is_ok());
+    for r in [0.5, 0.1] {
+        assert!(Simulation::new(&[shell(r)], solid(), Domain::open(), radial).is_ok());
+    }
     let err = Simulation::new(&[shell(0.05)], solid(), Domain::open(), radial).unwrap_err();
     assert!(err.to_string().contains("solid shell radius"), "{err}");
     let cylinders = SimulationConfig {
