@@ -2550,6 +2550,45 @@ mod tests {
         gas_then_solid(planar(), InitialState::default()).unwrap();
     }
 
+    /// A transmitting side weighs its traction by planar kernel sums, which a total-Lagrangian
+    /// scene does not form: such a scene with one is refused by name.
+    #[test]
+    fn a_total_lagrangian_scene_has_no_transmitting_side() {
+        use crate::eos::MieGruneisen;
+        use crate::strength::Strength;
+        let init: Vec<ParticleInit<1>> = (0..10)
+            .map(|k| ParticleInit {
+                position: Vector::<1>::new(k as f64),
+                velocity: Vector::<1>::zeros(),
+                mass: 1.0,
+                smoothing_length: 1.5,
+                density: 1.0,
+                internal_energy: 0.0,
+                material: 0,
+            })
+            .collect();
+        let solid = Material::new(
+            "solid",
+            MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap(),
+        )
+        .with_strength(Strength::elastic(1.0).unwrap());
+        let domain = Domain::with_sides(
+            Vector::<1>::new(-1.0),
+            Vector::<1>::new(10.0),
+            [Boundary::Open],
+            [Boundary::Transmitting],
+        )
+        .unwrap();
+        let config = SimulationConfig {
+            formulation: Formulation::TotalLagrangian { hourglass: 0.0 },
+            ..SimulationConfig::default()
+        };
+        let error = Simulation::new(&init, vec![solid], domain, config)
+            .expect_err("a transmitting side")
+            .to_string();
+        assert!(error.contains("transmitting"), "{error}");
+    }
+
     /// A programmed burn releases a charge's pressure from its lighting time on: at t = 0 the
     /// particles lit at −∞ (not explosive) carry their gas's full pressure, (γ − 1)ρe = 0.4,
     /// and the five lit one second later none.
