@@ -2589,6 +2589,80 @@ mod tests {
         assert!(error.contains("transmitting"), "{error}");
     }
 
+    /// A periodic line of 40 gas particles 1 m apart at density 1, all with smoothing length
+    /// `h`, their h and density solved by grad-h with η = 1.2.
+    fn grad_h_line(h: f64) -> Simulation<1> {
+        let init: Vec<ParticleInit<1>> = (0..40)
+            .map(|k| ParticleInit {
+                position: Vector::<1>::new(k as f64),
+                velocity: Vector::<1>::zeros(),
+                mass: 1.0,
+                smoothing_length: h,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            })
+            .collect();
+        let config = SimulationConfig {
+            formulation: Formulation::Cartesian(Density::GradH {
+                eta: 1.2,
+                tolerance: 1e-10,
+            }),
+            cfl: 0.25,
+            ..SimulationConfig::default()
+        };
+        let domain = Domain::new(
+            Vector::<1>::new(-0.5),
+            Vector::<1>::new(39.5),
+            [Boundary::Periodic],
+        );
+        let gas = vec![Material::new("gas", IdealGas::new(1.4).unwrap())];
+        Simulation::new(&init, gas, domain, config).unwrap()
+    }
+
+    /// Grad-h searches again where a root lies beyond the reach its lists were checked for.
+    /// On the uniform line the root is h ≈ η × spacing = 1.2: started there, within the 3 %
+    /// the lists reach beyond it, no search is repeated; started at a third of it, at least
+    /// one is. Both end at the same h.
+    #[test]
+    fn grad_h_searches_again_for_a_root_beyond_its_lists() {
+        let (at_root, short) = (grad_h_line(1.2), grad_h_line(0.4));
+        assert_eq!(at_root.repeated_searches(), 0);
+        assert!(short.repeated_searches() >= 1);
+        for (a, b) in at_root.particles.smoothing_length[..40]
+            .iter()
+            .zip(&short.particles.smoothing_length[..40])
+        {
+            assert!((a - b).abs() < 1e-8 && (a - 1.2).abs() < 0.01, "{a} {b}");
+        }
+    }
+
+    /// A run reports the inputs it was built with, and its clocks and counters advance: after
+    /// ten steps each phase has taken some time, and the lists were searched at least once (at
+    /// the start) and at most once per step and at the start.
+    #[test]
+    fn a_run_reports_its_inputs_and_its_work() {
+        let mut sim = grad_h_line(1.2);
+        assert_eq!(sim.config().cfl, 0.25);
+        assert_eq!(sim.materials().len(), 1);
+        assert_eq!(sim.materials()[0].name, "gas");
+        for _ in 0..10 {
+            let dt = sim.stable_time_step().unwrap();
+            sim.step(dt).unwrap();
+        }
+        let times = sim.phase_times();
+        for (phase, seconds) in [
+            ("neighbours", times.neighbours),
+            ("density", times.density),
+            ("forces", times.forces),
+            ("integration", times.integration),
+        ] {
+            assert!(seconds > 0.0, "{phase}: {seconds}");
+        }
+        assert!((1..=11).contains(&sim.neighbour_searches()));
+        assert_eq!(sim.steps(), 10);
+    }
+
     /// A programmed burn releases a charge's pressure from its lighting time on: at t = 0 the
     /// particles lit at −∞ (not explosive) carry their gas's full pressure, (γ − 1)ρe = 0.4,
     /// and the five lit one second later none.
