@@ -2663,6 +2663,20 @@ mod tests {
         assert_eq!(sim.steps(), 10);
     }
 
+    /// `run_until` ends exactly at its end time and leaves no sliver: an interval within 1e-9
+    /// of one stable step (here 5e-10 beyond it) is one step, a tenth of a step is one step,
+    /// and one and a half steps are two equal steps (a full one would leave half a step).
+    #[test]
+    fn a_run_ends_at_its_end_time_without_a_sliver() {
+        let dt = grad_h_line(1.2).stable_time_step().unwrap();
+        for (interval, steps) in [(dt * (1.0 + 5e-10), 1), (0.1 * dt, 1), (1.5 * dt, 2)] {
+            let mut sim = grad_h_line(1.2);
+            sim.run_until(interval, |_| {}).unwrap();
+            assert_eq!(sim.time(), interval);
+            assert_eq!(sim.steps(), steps, "{interval} s in steps of {dt} s");
+        }
+    }
+
     /// A programmed burn releases a charge's pressure from its lighting time on: at t = 0 the
     /// particles lit at −∞ (not explosive) carry their gas's full pressure, (γ − 1)ρe = 0.4,
     /// and the five lit one second later none.
