@@ -2663,17 +2663,46 @@ mod tests {
         assert_eq!(sim.steps(), 10);
     }
 
-    /// `run_until` ends exactly at its end time and leaves no sliver: an interval within 1e-9
-    /// of one stable step (here 5e-10 beyond it) is one step, a tenth of a step is one step,
-    /// and one and a half steps are two equal steps (a full one would leave half a step).
+    /// `run_until` ends exactly at its end time and leaves no sliver, with steps of a
+    /// laboratory's scale (0.4 s: e = 1 J/kg) and of a blast's (0.4 µs: e = 10¹² J/kg): an
+    /// interval within 1e-9 of one stable step (here 5e-10 beyond it) is one step, a tenth of a
+    /// step is one step, and one and a half steps are two equal ones (a full step would leave
+    /// half a step). A second run from a time t1 to t2 where (t2 − t1) + t1 rounds above t2
+    /// still ends at t2 exactly.
     #[test]
     fn a_run_ends_at_its_end_time_without_a_sliver() {
-        let dt = grad_h_line(1.2).stable_time_step().unwrap();
-        for (interval, steps) in [(dt * (1.0 + 5e-10), 1), (0.1 * dt, 1), (1.5 * dt, 2)] {
-            let mut sim = grad_h_line(1.2);
-            sim.run_until(interval, |_| {}).unwrap();
-            assert_eq!(sim.time(), interval);
-            assert_eq!(sim.steps(), steps, "{interval} s in steps of {dt} s");
+        for energy in [1.0, 1e12] {
+            let line = || {
+                let mut sim = grad_h_line(1.2);
+                sim.particles
+                    .internal_energy
+                    .iter_mut()
+                    .for_each(|e| *e = energy);
+                sim.evaluate_rates(0.0).unwrap();
+                sim
+            };
+            let dt = line().stable_time_step().unwrap();
+            for (interval, steps) in [(dt * (1.0 + 5e-10), 1), (0.1 * dt, 1), (1.5 * dt, 2)] {
+                let mut sim = line();
+                sim.step_toward(interval).unwrap();
+                let first = if steps == 2 { 0.5 * interval } else { interval };
+                assert_eq!(sim.time(), first, "{interval} s in steps of {dt} s");
+                sim.run_until(interval, |_| {}).unwrap();
+                assert_eq!(sim.time(), interval);
+                assert_eq!(sim.steps(), steps, "{interval} s in steps of {dt} s");
+            }
+            let (t1, t2) = (500..1000)
+                .flat_map(|j| (1..100).map(move |k| (j, k)))
+                .map(|(j, k)| {
+                    let t2 = j as f64 * 1e-3 * dt;
+                    (k as f64 * 1e-2 * t2, t2)
+                })
+                .find(|&(t1, t2)| (t2 - t1) + t1 > t2)
+                .expect("a start whose remainder rounds beyond the end");
+            let mut sim = line();
+            sim.run_until(t1, |_| {}).unwrap();
+            sim.run_until(t2, |_| {}).unwrap();
+            assert_eq!((sim.time(), sim.steps()), (t2, 2));
         }
     }
 
