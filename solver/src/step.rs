@@ -191,6 +191,20 @@ pub struct PhaseTimes {
     pub integration: f64,
 }
 
+/// A running clock for one phase of a step: [`PhaseClock::stop`] adds the seconds since it
+/// started to that phase's total in [`PhaseTimes`].
+struct PhaseClock(Instant);
+
+impl PhaseClock {
+    fn start() -> Self {
+        Self(Instant::now())
+    }
+
+    fn stop(self, total: &mut f64) {
+        *total += self.0.elapsed().as_secs_f64();
+    }
+}
+
 /// The heat (J) the artificial terms have put into the internal energy since the start, each
 /// the time integral of its power in [`RateTotals`] by the trapezoid rule, as the kicks
 /// integrate the internal energy: with the kinetic energy and the energies the state holds
@@ -921,18 +935,18 @@ impl<const D: usize> Simulation<D> {
                 "step_toward or run_until, which let each particle take its own step",
             ));
         }
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         self.reorder_for_locality();
-        self.times.neighbours += start.elapsed().as_secs_f64();
-        let start = Instant::now();
+        clock.stop(&mut self.times.neighbours);
+        let clock = PhaseClock::start();
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
         self.kick(&all, |_| 0.5 * dt);
         self.drift_and_predict(dt, &all);
         let all = self.let_out_departing(&all, None);
-        self.times.integration += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.integration);
         let before = self.totals;
         self.evaluate_rates(self.time + dt)?;
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         self.close_kick(&all, |_| 0.5 * dt);
         // the trapezoid rule, as the kicks integrate v and e
         let mut both = before;
@@ -942,7 +956,7 @@ impl<const D: usize> Simulation<D> {
         self.steps += 1;
         self.particle_updates += all.len() as u64;
         let health = self.check_health(&all);
-        self.times.integration += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.integration);
         health
     }
 
@@ -966,25 +980,25 @@ impl<const D: usize> Simulation<D> {
             }
             _ => self.start_block(t_end, max_ratio)?,
         };
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         let dt = blocks.advance();
         self.time = blocks.time();
         self.drift_on_half_steps(dt);
-        self.times.integration += start.elapsed().as_secs_f64();
-        let start = Instant::now();
+        clock.stop(&mut self.times.integration);
+        let clock = PhaseClock::start();
         // the limiter reads the partners the kernel reaches at the drifted positions (a
         // total-Lagrangian scene's bonds are fixed)
         if self.reference.is_none() {
             self.keep_or_search_lists();
         }
-        self.times.neighbours += start.elapsed().as_secs_f64();
-        let start = Instant::now();
+        clock.stop(&mut self.times.neighbours);
+        let clock = PhaseClock::start();
         let active = self.ending_and_woken(&mut blocks);
         let active = self.let_out_departing(&active, Some(&mut blocks));
         // every particle's predicted state at this time: a gauge may read any of them
         let all: Vec<usize> = (0..self.particles.n_real()).collect();
         self.kick_from_half(&all, |i| blocks.elapsed(i) - 0.5 * blocks.step_of(i));
-        self.times.integration += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.integration);
         let books = if self.reference.is_some() {
             self.evaluate_bond_rates(&active)
         } else {
@@ -997,7 +1011,7 @@ impl<const D: usize> Simulation<D> {
                 return Err(error);
             }
         };
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         self.close_kick(&active, |i| 0.5 * blocks.step_of(i));
         // the closing half of each step at its end's rates; the opening half of the next at
         // the same rates when it starts
@@ -1014,7 +1028,7 @@ impl<const D: usize> Simulation<D> {
         };
         self.blocks = Some(blocks);
         let health = started.and_then(|()| self.check_health(&all));
-        self.times.integration += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.integration);
         health
     }
 
@@ -1462,7 +1476,7 @@ impl<const D: usize> Simulation<D> {
         else {
             unreachable!("a scene with a reference configuration is total-Lagrangian")
         };
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         let books = reference.evaluate(
             &mut self.particles,
             &self.materials,
@@ -1470,7 +1484,7 @@ impl<const D: usize> Simulation<D> {
             hourglass,
             which,
         );
-        self.times.forces += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.forces);
         books.map_err(|(i, quantity, value)| self.blow_up(i, quantity, value))
     }
 
@@ -1484,18 +1498,18 @@ impl<const D: usize> Simulation<D> {
         (all, solved): (&[usize], &[usize]),
         dt: impl Fn(usize) -> f64,
     ) -> Result<Vec<RateTotals<D>>, SolverError> {
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         let found = self.find_smoothing_lengths_and_neighbours(all, solved);
-        self.times.neighbours += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.neighbours);
         found?;
-        let start = Instant::now();
+        let clock = PhaseClock::start();
         self.evaluate_density(all);
         self.evaluate_state(time, all);
         self.particles.refresh_image_state();
-        self.times.density += start.elapsed().as_secs_f64();
-        let start = Instant::now();
+        clock.stop(&mut self.times.density);
+        let clock = PhaseClock::start();
         let books = self.evaluate_rates_of(time, solved, dt);
-        self.times.forces += start.elapsed().as_secs_f64();
+        clock.stop(&mut self.times.forces);
         Ok(books)
     }
 
