@@ -2720,6 +2720,37 @@ mod tests {
         }
     }
 
+    /// With individual time steps a run counts its steps (the times at which some step ends)
+    /// and its particle updates: each step updates at least one of the ten particles and at
+    /// most all of them.
+    #[test]
+    fn individual_steps_count_their_steps_and_updates() {
+        let init: Vec<ParticleInit<1>> = (0..10)
+            .map(|k| ParticleInit {
+                position: Vector::<1>::new(k as f64),
+                velocity: Vector::<1>::zeros(),
+                mass: 1.0,
+                smoothing_length: 1.5,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: 0,
+            })
+            .collect();
+        let config = SimulationConfig {
+            formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::Fixed)),
+            time_steps: TimeSteps::Individual { max_ratio: 4 },
+            ..SimulationConfig::default()
+        };
+        let gas = vec![Material::new("gas", IdealGas::new(1.4).unwrap())];
+        let mut sim = Simulation::new(&init, gas, Domain::open(), config).unwrap();
+        sim.run_until(5.0, |_| {}).unwrap();
+        let (steps, updates) = (sim.steps(), sim.particle_updates());
+        assert!(
+            steps >= 1 && (steps..=10 * steps).contains(&updates),
+            "{steps} {updates}"
+        );
+    }
+
     /// A programmed burn releases a charge's pressure from its lighting time on: at t = 0 the
     /// particles lit at −∞ (not explosive) carry their gas's full pressure, (γ − 1)ρe = 0.4,
     /// and the five lit one second later none.
