@@ -2457,6 +2457,22 @@ mod tests {
         }
     }
 
+    /// `n` particles of unit mass at rest, 1 m apart at density 1 with e = 1 J/kg and smoothing
+    /// length `h`, particle k of material `material(k)`.
+    fn unit_line(n: usize, h: f64, material: impl Fn(usize) -> u16) -> Vec<ParticleInit<1>> {
+        (0..n)
+            .map(|k| ParticleInit {
+                position: Vector::<1>::new(k as f64),
+                velocity: Vector::<1>::zeros(),
+                mass: 1.0,
+                smoothing_length: h,
+                density: 1.0,
+                internal_energy: 1.0,
+                material: material(k),
+            })
+            .collect()
+    }
+
     /// A line of ten particles, 1 m apart at density 1: five of gas, then five of an elastic
     /// solid (material 1), with the initial `state`.
     fn gas_then_solid(
@@ -2465,17 +2481,7 @@ mod tests {
     ) -> Result<Simulation<1>, SolverError> {
         use crate::eos::MieGruneisen;
         use crate::strength::Strength;
-        let init: Vec<ParticleInit<1>> = (0..10)
-            .map(|k| ParticleInit {
-                position: Vector::<1>::new(k as f64),
-                velocity: Vector::<1>::zeros(),
-                mass: 1.0,
-                smoothing_length: 1.5,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: u16::from(k >= 5),
-            })
-            .collect();
+        let init = unit_line(10, 1.5, |k| u16::from(k >= 5));
         let solid = Material::new(
             "solid",
             MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap(),
@@ -2570,17 +2576,7 @@ mod tests {
     fn a_total_lagrangian_scene_has_no_transmitting_side() {
         use crate::eos::MieGruneisen;
         use crate::strength::Strength;
-        let init: Vec<ParticleInit<1>> = (0..10)
-            .map(|k| ParticleInit {
-                position: Vector::<1>::new(k as f64),
-                velocity: Vector::<1>::zeros(),
-                mass: 1.0,
-                smoothing_length: 1.5,
-                density: 1.0,
-                internal_energy: 0.0,
-                material: 0,
-            })
-            .collect();
+        let init = unit_line(10, 1.5, |_| 0);
         let solid = Material::new(
             "solid",
             MieGruneisen::linear(1.0, 1.0, 0.0, 0.0, f64::NEG_INFINITY).unwrap(),
@@ -2606,17 +2602,7 @@ mod tests {
     /// A periodic line of 40 gas particles 1 m apart at density 1, all with smoothing length
     /// `h`, their h and density solved by grad-h with η = 1.2.
     fn grad_h_line(h: f64) -> Simulation<1> {
-        let init: Vec<ParticleInit<1>> = (0..40)
-            .map(|k| ParticleInit {
-                position: Vector::<1>::new(k as f64),
-                velocity: Vector::<1>::zeros(),
-                mass: 1.0,
-                smoothing_length: h,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            })
-            .collect();
+        let init = unit_line(40, h, |_| 0);
         let config = SimulationConfig {
             formulation: Formulation::Cartesian(Density::GradH {
                 eta: 1.2,
@@ -2725,17 +2711,7 @@ mod tests {
     /// most all of them.
     #[test]
     fn individual_steps_count_their_steps_and_updates() {
-        let init: Vec<ParticleInit<1>> = (0..10)
-            .map(|k| ParticleInit {
-                position: Vector::<1>::new(k as f64),
-                velocity: Vector::<1>::zeros(),
-                mass: 1.0,
-                smoothing_length: 1.5,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            })
-            .collect();
+        let init = unit_line(10, 1.5, |_| 0);
         let config = SimulationConfig {
             formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::Fixed)),
             time_steps: TimeSteps::Individual { max_ratio: 4 },
@@ -2756,17 +2732,7 @@ mod tests {
     /// and the five lit one second later none.
     #[test]
     fn a_programmed_burn_holds_back_the_pressure_until_lighting() {
-        let init: Vec<ParticleInit<1>> = (0..10)
-            .map(|k| ParticleInit {
-                position: Vector::<1>::new(k as f64),
-                velocity: Vector::<1>::zeros(),
-                mass: 1.0,
-                smoothing_length: 1.5,
-                density: 1.0,
-                internal_energy: 1.0,
-                material: 0,
-            })
-            .collect();
+        let init = unit_line(10, 1.5, |_| 0);
         let burn = ProgrammedBurn {
             lighting_time: (0..10)
                 .map(|k| if k < 5 { f64::NEG_INFINITY } else { 1.0 })
