@@ -25,7 +25,11 @@
 # A large file in parts: `--shard 0/3 --sharding round-robin`, and so on. `--iterate` drops the
 # caught before it shards (so it picks another part); rerun a part's missed by name instead:
 #
-#   scripts/mutants.sh --file F -F "$(python3 -c 'import re,sys; print("|".join("^"+re.escape(l.strip())+"$" for l in open(sys.argv[1]) if l.strip()))' mutants.out/missed.txt)" -C --lib -C --test=NAME
+#   scripts/mutants.sh --file F -F "$(python3 -c 'import re,sys; print("|".join("^"+re.escape(l.strip())+"$" for l in open(sys.argv[1]) if l.strip()))' mutants.out/missed.txt)" -C --lib -C --test=integration
+#
+# The package's integration tests are one binary, `integration`, a module per subject; arguments
+# after `--` reach every test binary, so `-- --skip dem:: --skip operators::` leaves out the
+# subjects (and the library's tests of the same name) a file's mutants cannot reach.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v cargo-mutants >/dev/null 2>&1 || cargo install cargo-mutants --locked

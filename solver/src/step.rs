@@ -2,7 +2,7 @@
 //!
 //! Integration is kick–drift–kick leapfrog (second order). Without viscosity it retraces its
 //! steps to third order in Δt: exactly for the positions' part, up to the energy predictor below
-//! (tested in `solver/tests/conservation.rs`). With `SmoothingLength::FollowDensity`, h lags
+//! (tested in `solver/tests/integration/conservation.rs`). With `SmoothingLength::FollowDensity`, h lags
 //! one step behind the density, which breaks reversal at first order; `Density::GradH`
 //! solves h and ρ together and carries the Ω terms, which conserves energy again. Steps:
 //! v^{n+½} = v^n + a^n Δt/2, x^{n+1} = x^n + v^{n+½} Δt, forces at x^{n+1} with the predicted

@@ -7,7 +7,7 @@
 //! ~1e-3 from unity) and loses more than 0.2 at the ends, where half the kernel falls outside
 //! the data. Shepard's and CSPM's errors are reported: both reproduce their fields by
 //! construction (Σ W u / Σ W with u = 1; a gradient corrected by the inverse of the kernel
-//! moment), which `solver/tests/operators.rs` tests as wiring, not as verification.
+//! moment), which `solver/tests/integration/operators.rs` tests as wiring, not as verification.
 
 use crate::params::{ParamSpec, Params};
 use crate::record::{Check, ProblemOutput, Record, Run, Table};

@@ -570,7 +570,7 @@ fn individual_time_steps_resume_from_a_checkpoint_bitwise() {
 }
 
 /// Individual time steps refuse by name a ratio that is not a power of two and a step of a
-/// given length (the planar setups they are not built for: `tests/individual_steps.rs`).
+/// given length (the planar setups they are not built for: `individual_steps.rs`).
 #[test]
 fn individual_time_steps_are_refused_where_they_are_not_built() {
     let individual = |max_ratio| TimeSteps::Individual { max_ratio };
