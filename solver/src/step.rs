@@ -1121,9 +1121,9 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The real particles whose steps end now, and those woken by a neighbour's step more than
-    /// four times shorter: a woken particle's step ends now, and its half-step values and
-    /// position are corrected to those of a step that had been this long from its start (its
-    /// kick and drift used the longer one), in index order.
+    /// four times shorter: a woken particle's step ends now, and its half-step values,
+    /// position and books are corrected to those of a step that had been this long from its
+    /// start (its kick, drift and booking used the longer one), in index order.
     ///
     /// Only a partner of a particle with a short enough step can be woken (the lists are
     /// symmetric), so the limiter tests those alone: the partners of the possible limiters,
@@ -1147,6 +1147,10 @@ impl<const D: usize> Simulation<D> {
                 }
                 let (old, new) = blocks.end_early(i);
                 let shortened = 0.5 * (old - new);
+                // the opening half's wall impulse, heating and transmitted energy were
+                // booked for the longer step
+                let share = self.books[i];
+                self.book(&share, -shortened);
                 let (p, half) = (&mut self.particles, &mut self.half);
                 let a = p.acceleration[i];
                 p.position[i] -= a * (shortened * new);
