@@ -3,8 +3,9 @@
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    Boundary, Domain, Formulation, Geometry, IdealGas, Material, ShellDensity, Simulation,
-    SimulationConfig, SmoothingLength, TimeSteps, Vector,
+    ArtificialViscosity, Boundary, Domain, ExternalLoad, Formulation, Geometry, IdealGas,
+    InitialState, Material, ShellDensity, Simulation, SimulationConfig, SmoothingLength, TimeSteps,
+    Vector,
 };
 
 /// The radial formulation of `geometry` with summation density and h found by `rule`.
@@ -614,4 +615,84 @@ fn individual_time_steps_move_the_clock_forward_to_the_end() {
     sim.step_toward(1.0).unwrap();
     let refusal = sim.step_toward(sim.time() * (1.0 + 1e-9)).unwrap_err();
     assert!(refusal.to_string().contains("t_end"), "{refusal}");
+}
+
+/// The same outward acceleration for every shell, from outside.
+#[derive(Debug)]
+struct OutwardLoad(f64);
+
+impl ExternalLoad<1> for OutwardLoad {
+    fn acceleration(&self, _id: u32, _time: f64) -> Option<Vector<1>> {
+        Some(Vector::<1>::new(self.0))
+    }
+}
+
+/// A shell that crosses the origin comes out on the other side, with individual steps as with
+/// global ones. One spherical shell of gas without internal energy (p = c = 0), without
+/// artificial viscosity, under an outward load g = 10 m/s², starts at r = 10 m falling in at
+/// 40 m/s. On a line through the centre it moves as a stone thrown through the origin against
+/// a pull away from it: x = r₀ + v₀t + ½gt² until x = 0 at t*, then r = −v*(t − t*) +
+/// ½g(t − t*)² moving out at −v* + g(t − t*), v* = v₀ + gt*. At 0.6 s, 7 steps of about
+/// 0.09 s (its force step C√(h/g)) later: r and v within 5 % of that (measured 0.95 % and
+/// 1.0 %: the crossing falls inside a step, whose drift and kick see the pull on one side),
+/// and the same with individual steps as with global ones to 1e-12 (measured 1e-15: a lone
+/// shell takes its own stable step either way).
+#[test]
+fn a_shell_crosses_the_origin_with_individual_steps() {
+    let (g, r0, v0, t_end) = (10.0, 10.0, -40.0, 0.6);
+    let run = |time_steps| {
+        let init = [ParticleInit {
+            position: Vector::<1>::new(r0),
+            velocity: Vector::<1>::new(v0),
+            mass: 1.0,
+            smoothing_length: 1.0,
+            density: 1.0,
+            internal_energy: 0.0,
+            material: 0,
+        }];
+        let config = SimulationConfig {
+            formulation: radial(Geometry::Spherical, SmoothingLength::Fixed),
+            viscosity: ArtificialViscosity {
+                alpha: 0.0,
+                beta: 0.0,
+                ..ArtificialViscosity::default()
+            },
+            time_steps,
+            ..SimulationConfig::default()
+        };
+        let state = InitialState {
+            load: Some(std::sync::Arc::new(OutwardLoad(g))),
+            ..InitialState::default()
+        };
+        let gas = Material::new("pressureless gas", IdealGas::new(1.4).unwrap());
+        let mut sim =
+            Simulation::with_initial_state(&init, vec![gas], Domain::open(), config, state)
+                .unwrap();
+        sim.run_until(t_end, |_| {}).unwrap();
+        let p = sim.particles();
+        (p.position[0][0], p.velocity[0][0])
+    };
+    let crossing = (-v0 - (v0 * v0 - 2.0 * g * r0).sqrt()) / g;
+    let v_star = v0 + g * crossing;
+    let after = t_end - crossing;
+    let (r, v) = (
+        -v_star * after + 0.5 * g * after * after,
+        -v_star + g * after,
+    );
+    let global = run(TimeSteps::Global);
+    let individual = run(TimeSteps::Individual { max_ratio: 64 });
+    assert!(
+        (global.0 / r - 1.0).abs() < 0.05 && (global.1 / v - 1.0).abs() < 0.05,
+        "global steps: r {}, v {} against {r}, {v}",
+        global.0,
+        global.1
+    );
+    assert!(
+        (individual.0 - global.0).abs() < 1e-12 * r && (individual.1 - global.1).abs() < 1e-12 * v,
+        "individual steps: r {}, v {} against global {}, {}",
+        individual.0,
+        individual.1,
+        global.0,
+        global.1
+    );
 }
