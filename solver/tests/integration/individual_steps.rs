@@ -414,9 +414,9 @@ fn axisymmetric_individual_steps_carry_a_pulse_through_a_stiff_inclusion() {
     check_transmitted_pulse(&global, &individual, &start, 0.1);
 }
 
-/// The same acceleration for every particle, from outside.
+/// The same acceleration for every particle, from outside (in a radial scene, along r).
 #[derive(Debug)]
-struct UniformLoad(f64);
+pub(crate) struct UniformLoad(pub(crate) f64);
 
 impl ExternalLoad<1> for UniformLoad {
     fn acceleration(&self, _id: u32, _time: f64) -> Option<Vector<1>> {

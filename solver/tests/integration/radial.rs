@@ -1,11 +1,11 @@
 //! Cylindrical and spherical SPH in r: uniform states stay uniform up to the origin, total
 //! energy is conserved, and radial scenes reject what they cannot represent.
 
+use crate::individual_steps::UniformLoad;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, Domain, ExternalLoad, Formulation, Geometry, IdealGas,
-    InitialState, Material, ShellDensity, Simulation, SimulationConfig, SmoothingLength, TimeSteps,
-    Vector,
+    ArtificialViscosity, Boundary, Domain, Formulation, Geometry, IdealGas, InitialState, Material,
+    ShellDensity, Simulation, SimulationConfig, SmoothingLength, TimeSteps, Vector,
 };
 
 /// The radial formulation of `geometry` with summation density and h found by `rule`.
@@ -617,16 +617,6 @@ fn individual_time_steps_move_the_clock_forward_to_the_end() {
     assert!(refusal.to_string().contains("t_end"), "{refusal}");
 }
 
-/// The same outward acceleration for every shell, from outside.
-#[derive(Debug)]
-struct OutwardLoad(f64);
-
-impl ExternalLoad<1> for OutwardLoad {
-    fn acceleration(&self, _id: u32, _time: f64) -> Option<Vector<1>> {
-        Some(Vector::<1>::new(self.0))
-    }
-}
-
 /// A shell that crosses the origin comes out on the other side, with individual steps as with
 /// global ones. One spherical shell of gas without internal energy (p = c = 0), without
 /// artificial viscosity, under an outward load g = 10 m/s², starts at r = 10 m falling in at
@@ -661,7 +651,7 @@ fn a_shell_crosses_the_origin_with_individual_steps() {
             ..SimulationConfig::default()
         };
         let state = InitialState {
-            load: Some(std::sync::Arc::new(OutwardLoad(g))),
+            load: Some(std::sync::Arc::new(UniformLoad(g))),
             ..InitialState::default()
         };
         let gas = Material::new("pressureless gas", IdealGas::new(1.4).unwrap());
