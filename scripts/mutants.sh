@@ -27,9 +27,10 @@
 #
 #   scripts/mutants.sh --file F -F "$(python3 -c 'import re,sys; print("|".join("^"+re.escape(l.strip())+"$" for l in open(sys.argv[1]) if l.strip()))' mutants.out/missed.txt)" -C --lib -C --test=integration
 #
-# The package's integration tests are one binary, `integration`, a module per subject; arguments
-# after `--` reach every test binary, so `-- --skip dem:: --skip operators::` leaves out the
-# subjects (and the library's tests of the same name) a file's mutants cannot reach.
+# The package's integration tests are one binary, `integration`, a module per subject. The first
+# `--` ends cargo-mutants' options and passes the rest to `cargo test`, whose own `--` passes
+# filters to every test binary: `-- -- step:: individual_steps::` runs only those modules (and
+# the library's tests whose names hold them), `-- -- --skip dem::` leaves one out.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v cargo-mutants >/dev/null 2>&1 || cargo install cargo-mutants --locked
