@@ -340,17 +340,21 @@ fn viscosity_switch_decays_without_compression_and_rises_with_it() {
     assert!(highest > 0.2, "converging flow never raised α: {highest}");
 }
 
-/// The artificial heat the simulation books closes the energy balance term by term: in the
-/// copper box (elastic, with Monaghan's artificial stress), the internal energy equals the bulk
-/// elastic energy c0² (1 − ρ0/ρ)²/2 of the linear bulk response, plus the shear elastic energy
-/// s:s/(4Gρ), plus the viscosity's and the artificial stress's heat, each particle summed. The
-/// time integration errs at second order in Δt and the hypoelastic shear energy by about the
-/// volumetric strain (below 1e-2 here) of itself, so the balance must close to 1 % of the heat
-/// (measured 0.04 %; the artificial stress's −9 J alone would miss by 7 %). The same for the
-/// total-Lagrangian box with the hourglass control at κ = 1, whose work returns as heat
-/// (measured 0.25 %; the hourglass heat, 17 J of 77 J, alone would miss by 22 %).
+/// The heat and the plastic work the simulation books close the energy balance term by term:
+/// in the copper box (elastic, with Monaghan's artificial stress), the internal energy equals
+/// the bulk elastic energy c0² (1 − ρ0/ρ)²/2 of the linear bulk response, plus the shear
+/// elastic energy s:s/(4Gρ), plus the viscosity's and the artificial stress's heat, each
+/// particle summed. The time integration errs at second order in Δt and the hypoelastic shear
+/// energy by about the volumetric strain (below 1e-2 here) of itself, so the balance must
+/// close to 1 % of what was dissipated (measured 0.04 %; the artificial stress's −9 J alone
+/// would miss by 7 %). The same for the total-Lagrangian box with the hourglass control at
+/// κ = 1, whose work returns as heat (measured 0.25 %; the hourglass heat, 17 J of 77 J, alone
+/// would miss by 22 %). With a yield stress of 20 MPa the random flow is plastic, and the
+/// plastic work Σ m W_p joins the dissipation (measured 0.006 % updated and 0.30 %
+/// total-Lagrangian; the plastic work, 13 J of 123 J and 43 J of 110 J, alone would miss by
+/// 10 % and 39 %).
 #[test]
-fn artificial_heat_closes_the_energy_balance() {
+fn heat_and_plastic_work_close_the_energy_balance() {
     use blastsph_solver::ArtificialStress;
     let updated = SimulationConfig {
         formulation: Formulation::Cartesian(CONTINUITY),
@@ -366,8 +370,14 @@ fn artificial_heat_closes_the_energy_balance() {
         cfl: 0.3,
         ..SimulationConfig::default()
     };
-    for config in [updated, total_lagrangian] {
-        let mut sim = copper_box_configured(16, 10e9, config, random_velocity);
+    let cases = [
+        (updated, 10e9),
+        (total_lagrangian, 10e9),
+        (updated, 20e6),
+        (total_lagrangian, 20e6),
+    ];
+    for (config, yield_stress) in cases {
+        let mut sim = copper_box_configured(16, yield_stress, config, random_velocity);
         let dt = 0.5 * sim.stable_time_step().unwrap();
         run_steps(&mut sim, 300, dt);
         let p = sim.particles();
@@ -383,12 +393,16 @@ fn artificial_heat_closes_the_energy_balance() {
                         / (4.0 * g * p.density[i]));
         }
         let heat = sim.artificial_heating();
-        let booked = heat.viscosity + heat.artificial_stress + heat.hourglass;
+        let plastic: f64 = (0..p.n_real()).map(|i| p.mass[i] * p.plastic_work[i]).sum();
+        let booked = heat.viscosity + heat.artificial_stress + heat.hourglass + plastic;
+        let dissipated =
+            heat.viscosity + heat.artificial_stress.abs() + heat.hourglass.abs() + plastic;
         assert!(heat.viscosity > 0.0);
+        assert_eq!(plastic > 0.0, yield_stress < 1e9, "plastic work {plastic}");
         assert!(
-            (internal - elastic - booked).abs()
-                < 1e-2 * (heat.viscosity + heat.artificial_stress.abs() + heat.hourglass.abs()),
-            "internal {internal}, elastic {elastic}, booked heat {booked}"
+            (internal - elastic - booked).abs() < 1e-2 * dissipated,
+            "{:?}, Y = {yield_stress:e}: internal {internal}, elastic {elastic}, booked {booked}",
+            config.formulation
         );
     }
 }
