@@ -2606,7 +2606,21 @@ mod tests {
     /// A periodic line of 40 gas particles 1 m apart at density 1, all with smoothing length
     /// `h`, their h and density solved by grad-h with η = 1.2.
     fn grad_h_line(h: f64) -> Simulation<1> {
-        let init = unit_line(40, h, |_| 0);
+        grad_h_line_in(h, 1.0)
+    }
+
+    /// [`grad_h_line`] with every length (positions, h, the period) `unit` times longer and
+    /// the masses with them (the same density 1 kg/m).
+    fn grad_h_line_in(h: f64, unit: f64) -> Simulation<1> {
+        let init: Vec<ParticleInit<1>> = unit_line(40, h, |_| 0)
+            .into_iter()
+            .map(|particle| ParticleInit {
+                position: particle.position * unit,
+                mass: particle.mass * unit,
+                smoothing_length: particle.smoothing_length * unit,
+                ..particle
+            })
+            .collect();
         let config = SimulationConfig {
             formulation: Formulation::Cartesian(Density::GradH {
                 eta: 1.2,
@@ -2616,8 +2630,8 @@ mod tests {
             ..SimulationConfig::default()
         };
         let domain = Domain::new(
-            Vector::<1>::new(-0.5),
-            Vector::<1>::new(39.5),
+            Vector::<1>::new(-0.5 * unit),
+            Vector::<1>::new(39.5 * unit),
             [Boundary::Periodic],
         );
         Simulation::new(&init, vec![gas()], domain, config).unwrap()
@@ -2639,6 +2653,29 @@ mod tests {
             .zip(&short.particles.smoothing_length[..40])
         {
             assert!((a - b).abs() < 1e-8 && (a - 1.2).abs() < 0.01, "{a} {b}");
+        }
+    }
+
+    /// Grad-h's solve and its searches do not depend on the unit of length: the line 1 km
+    /// apart (and 1 mm apart), started at a third of its root, repeats as many searches as the
+    /// line 1 m apart and ends at the same h in its unit, to 1e-8 relative (the solve's
+    /// tolerance is 1e-10).
+    #[test]
+    fn grad_h_is_the_same_in_any_unit_of_length() {
+        let metre = grad_h_line(0.4);
+        for unit in [1e3, 1e-3] {
+            let scaled = grad_h_line_in(0.4, unit);
+            assert_eq!(
+                scaled.repeated_searches(),
+                metre.repeated_searches(),
+                "{unit}"
+            );
+            for (a, b) in metre.particles.smoothing_length[..40]
+                .iter()
+                .zip(&scaled.particles.smoothing_length[..40])
+            {
+                assert!((a - b / unit).abs() < 1e-8 * a, "{unit}: {a} {b}");
+            }
         }
     }
 
