@@ -2656,6 +2656,31 @@ mod tests {
         }
     }
 
+    /// A density that is not a positive finite number stops the run with a diagnosis naming
+    /// the particle and the density, whatever the pressure the equation of state makes of it:
+    /// zero (where an ideal gas's pressure is a valid 0), negative, and infinite (where its
+    /// pressure is an infinite but not a low one); the healthy line passes.
+    #[test]
+    fn a_density_that_is_not_positive_and_finite_is_diagnosed() {
+        let mut sim = grad_h_line(1.2);
+        let all: Vec<usize> = (0..sim.particles.n_real()).collect();
+        assert!(sim.check_health(&all).is_ok());
+        let i = 7;
+        let id = sim.particles.id[i];
+        for density in [0.0, -0.5, f64::INFINITY] {
+            sim.particles.density[i] = density;
+            match sim.check_health(&all) {
+                Err(SolverError::BlowUp {
+                    particle, quantity, ..
+                }) => assert!(
+                    particle == id && quantity == "density",
+                    "ρ = {density}: particle {particle}, {quantity}"
+                ),
+                other => panic!("ρ = {density}: {other:?}"),
+            }
+        }
+    }
+
     /// Grad-h's solve and its searches do not depend on the unit of length: the line 1 km
     /// apart (and 1 mm apart), started at a third of its root, repeats as many searches as the
     /// line 1 m apart and ends at the same h in its unit, to 1e-8 relative (the solve's
