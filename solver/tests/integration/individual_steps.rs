@@ -488,6 +488,32 @@ impl ExternalLoad<1> for UniformLoad {
     }
 }
 
+/// Gas without internal energy (p = c = 0) and without artificial viscosity (α = β = 0), in
+/// `formulation` with `time_steps`, under the uniform load `g` and nothing else: every
+/// particle feels the load alone. Its material, configuration and start.
+pub(crate) fn pressureless_gas(
+    formulation: Formulation,
+    time_steps: TimeSteps,
+    g: f64,
+) -> (Material, SimulationConfig, InitialState<1>) {
+    let config = SimulationConfig {
+        formulation,
+        viscosity: ArtificialViscosity {
+            alpha: 0.0,
+            beta: 0.0,
+            ..ArtificialViscosity::default()
+        },
+        time_steps,
+        ..SimulationConfig::default()
+    };
+    let state = InitialState {
+        load: Some(std::sync::Arc::new(UniformLoad(g))),
+        ..InitialState::default()
+    };
+    let gas = Material::new("pressureless gas", IdealGas::new(1.4).unwrap());
+    (gas, config, state)
+}
+
 /// Gas without internal energy (p = c = 0) and without artificial viscosity feels no force
 /// but a uniform load g = 10 m/s², and the leapfrog carries a constant acceleration exactly:
 /// every particle must end at x₀ + v₀t + ½gt² with v₀ + gt, however its steps were cut. A
@@ -558,23 +584,13 @@ fn pressureless_line(
             }
         })
         .collect();
-    let config = SimulationConfig {
-        // summation density: a density that integrates ρ̇ of particles passing through one
-        // another over unequal steps can go negative
-        formulation: Formulation::Cartesian(Density::Summation(SmoothingLength::Fixed)),
-        viscosity: ArtificialViscosity {
-            alpha: 0.0,
-            beta: 0.0,
-            ..ArtificialViscosity::default()
-        },
+    // summation density: a density that integrates ρ̇ of particles passing through one
+    // another over unequal steps can go negative
+    let (gas, config, state) = pressureless_gas(
+        Formulation::Cartesian(Density::Summation(SmoothingLength::Fixed)),
         time_steps,
-        ..SimulationConfig::default()
-    };
-    let gas = Material::new("pressureless gas", IdealGas::new(1.4).unwrap());
-    let state = InitialState {
-        load: Some(std::sync::Arc::new(UniformLoad(g))),
-        ..InitialState::default()
-    };
+        g,
+    );
     let domain = Domain::with_sides(
         Vector::repeat(lower_end),
         Vector::repeat(1e3),

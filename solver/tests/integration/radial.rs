@@ -1,11 +1,11 @@
 //! Cylindrical and spherical SPH in r: uniform states stay uniform up to the origin, total
 //! energy is conserved, and radial scenes reject what they cannot represent.
 
-use crate::individual_steps::UniformLoad;
+use crate::individual_steps::pressureless_gas;
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::{
-    ArtificialViscosity, Boundary, Domain, Formulation, Geometry, IdealGas, InitialState, Material,
-    ShellDensity, Simulation, SimulationConfig, SmoothingLength, TimeSteps, Vector,
+    Boundary, Domain, Formulation, Geometry, IdealGas, Material, ShellDensity, Simulation,
+    SimulationConfig, SmoothingLength, TimeSteps, Vector,
 };
 
 /// The radial formulation of `geometry` with summation density and h found by `rule`.
@@ -640,21 +640,11 @@ fn a_shell_crosses_the_origin_with_individual_steps() {
             internal_energy: 0.0,
             material: 0,
         }];
-        let config = SimulationConfig {
-            formulation: radial(Geometry::Spherical, SmoothingLength::Fixed),
-            viscosity: ArtificialViscosity {
-                alpha: 0.0,
-                beta: 0.0,
-                ..ArtificialViscosity::default()
-            },
+        let (gas, config, state) = pressureless_gas(
+            radial(Geometry::Spherical, SmoothingLength::Fixed),
             time_steps,
-            ..SimulationConfig::default()
-        };
-        let state = InitialState {
-            load: Some(std::sync::Arc::new(UniformLoad(g))),
-            ..InitialState::default()
-        };
-        let gas = Material::new("pressureless gas", IdealGas::new(1.4).unwrap());
+            g,
+        );
         let mut sim =
             Simulation::with_initial_state(&init, vec![gas], Domain::open(), config, state)
                 .unwrap();
