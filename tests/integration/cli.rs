@@ -5,8 +5,11 @@ use std::process::{Command, Output};
 
 use crate::common;
 
+/// Runs the binary with `args` on one worker thread (the harness runs one test per core; see
+/// `common::on_one_thread`), unless `args` name a thread count.
 fn blastsph(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .env("RAYON_NUM_THREADS", "1")
         .args(args)
         .output()
         .expect("binary runs")

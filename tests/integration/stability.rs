@@ -15,7 +15,9 @@ fn run(overrides: &[(&str, String)]) -> ProblemOutput {
         .iter()
         .map(|(k, v)| (k.to_string(), v.clone()))
         .collect();
-    problems::run("toro-1", Level::Quick, &overrides, &|_| {}).unwrap()
+    crate::common::on_one_thread(|| {
+        problems::run("toro-1", Level::Quick, &overrides, &|_| {}).unwrap()
+    })
 }
 
 /// The bound on a stable run's relative energy change. A stable run's energy error is the

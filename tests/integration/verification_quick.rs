@@ -15,7 +15,9 @@ fn run(name: &str, overrides: &[(&str, &str)]) -> blastsph_verification::record:
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    let output = problems::run(name, Level::Quick, &overrides, &|_| {}).expect("problem runs");
+    let output = common::on_one_thread(|| {
+        problems::run(name, Level::Quick, &overrides, &|_| {}).expect("problem runs")
+    });
     common::assert_renders(&output.figure.to_svg(), name);
     output
 }
@@ -509,18 +511,20 @@ fn curves(csv: &Path) -> Value {
 #[test]
 fn a_tunnel_10m_below_500kg_passes_the_studys_checks_and_matches_its_curves() {
     let out = std::env::temp_dir().join(format!("blastsph-tunnel-review-{}", std::process::id()));
-    let case = run_charge(
-        500.0,
-        &[10.0],
-        &Soil::default(),
-        Tunnel::default(),
-        QUICK,
-        &out,
-        &|_, _| {},
-        &Checkpoints::default(),
-    )
-    .expect("the case runs")
-    .remove(0);
+    let case = common::on_one_thread(|| {
+        run_charge(
+            500.0,
+            &[10.0],
+            &Soil::default(),
+            Tunnel::default(),
+            QUICK,
+            &out,
+            &|_, _| {},
+            &Checkpoints::default(),
+        )
+        .expect("the case runs")
+        .remove(0)
+    });
     assert!(case.stopped.is_none(), "{:?}", case.stopped);
     let (crown, free) = (&case.gauges["crown"], &case.gauges["free_field_at_crown"]);
     // the fastest wave: the library's fully compacted sand, 4636 m/s

@@ -3,6 +3,17 @@
 mod review;
 pub use review::reviewable;
 
+/// Runs `work` on a pool of its own with one thread. The test harness already runs one test
+/// per core; a test that also spread its particle loops over every core would leave each loop
+/// waiting for a worker the other test's threads have preempted, at every step.
+pub fn on_one_thread<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool of one thread")
+        .install(work)
+}
+
 /// Renders `svg` with an independent renderer (resvg) and checks what a reader would see: it
 /// parses, it draws something besides its white background at the size it declares, and every
 /// text element, laid out with the machine's fonts, lies on the canvas. Where the machine has
