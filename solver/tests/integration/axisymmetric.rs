@@ -295,7 +295,7 @@ fn a_plane_wave_leaves_an_axisymmetric_column_through_a_transmitting_end() {
     let dx = 1e-3;
     let (n_r, width, centre, gauge) = (4, 0.01, 0.1, 0.15);
     // the history of the mean v_z of the row of rings nearest the gauge
-    let history = |z_lo: f64, n_z: usize, end: Boundary| -> Vec<(f64, f64)> {
+    let column_history = |z_lo: f64, n_z: usize, end: Boundary| -> Vec<(f64, f64)> {
         let mut init = Vec::new();
         for k in 0..n_z {
             for i in 0..n_r {
@@ -334,6 +334,9 @@ fn a_plane_wave_leaves_an_axisymmetric_column_through_a_transmitting_end() {
             samples.push((sim.time(), row.iter().sum::<f64>() / row.len() as f64));
         }
         samples
+    };
+    let history = |z_lo: f64, n_z: usize, end: Boundary| {
+        crate::on_one_thread(|| column_history(z_lo, n_z, end))
     };
     let transmitted = history(0.0, 200, Boundary::Transmitting);
     let far = history(-0.1, 400, Boundary::Open);

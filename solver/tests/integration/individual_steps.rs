@@ -269,9 +269,12 @@ fn inclusion_runs(
     sides: Boundary,
 ) -> (Simulation<2>, Simulation<2>, Simulation<2>) {
     let run = |time_steps| {
-        let mut sim = stiff_inclusion(40, config(time_steps), sides);
-        sim.run_until(2.5e-3, |_| {}).unwrap();
-        sim
+        let config = config(time_steps);
+        crate::on_one_thread(|| {
+            let mut sim = stiff_inclusion(40, config, sides);
+            sim.run_until(2.5e-3, |_| {}).unwrap();
+            sim
+        })
     };
     let start = stiff_inclusion(40, config(INDIVIDUAL), sides);
     (run(TimeSteps::Global), run(INDIVIDUAL), start)

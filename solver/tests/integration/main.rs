@@ -11,3 +11,14 @@ mod operators;
 mod outflow;
 mod radial;
 mod solids;
+
+/// Runs `work` on a pool of its own with one thread. libtest already runs one test per core;
+/// a small scene that also spread its particle loops over every core would leave each loop
+/// waiting for a worker the other test's threads have preempted, at every step.
+fn on_one_thread<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool of one thread")
+        .install(work)
+}
