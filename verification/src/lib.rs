@@ -29,6 +29,18 @@ pub mod vtk;
 
 use thiserror::Error;
 
+/// Runs `work` on a pool of its own with one thread. libtest already runs one test per core;
+/// a test whose small scene also spread its particle loops over every core would leave each
+/// loop waiting for a worker the other test's threads have preempted, at every step.
+#[cfg(test)]
+pub(crate) fn on_one_thread<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool of one thread")
+        .install(work)
+}
+
 /// A reader of a table from `reference_data/`: CSV with a header row, whose `#` lines are
 /// comments (the first names the table's source).
 pub(crate) fn reference_table(table: &'static str) -> csv::Reader<&'static [u8]> {

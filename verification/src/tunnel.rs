@@ -1998,7 +1998,11 @@ mod tests {
             charge_kg: 500.0,
         };
         let text = quarter_model_scene(case, &Soil::default(), Tunnel::default(), FULL, 2e-5);
-        let run = || run_full_case(case, &text, &dir, &|_, _| {}, &Checkpoints::default());
+        let run = || {
+            crate::on_one_thread(|| {
+                run_full_case(case, &text, &dir, &|_, _| {}, &Checkpoints::default())
+            })
+        };
         let mut full = run().unwrap();
         assert!(!full.reused && full.stopped.is_none());
         assert!(full.particles > 10_000 && full.energy_relative_error < 1e-3);
@@ -2118,16 +2122,18 @@ mod tests {
         let out = std::env::temp_dir().join(format!("blastsph-tunnel-{}", std::process::id()));
         let (tunnel, coarse) = small_tunnel();
         let run = |progress: &(dyn Fn(&str, f64) + Sync)| {
-            run_charge(
-                50.0,
-                &[8.0],
-                &Soil::default(),
-                tunnel,
-                coarse,
-                &out,
-                progress,
-                &Checkpoints::default(),
-            )
+            crate::on_one_thread(|| {
+                run_charge(
+                    50.0,
+                    &[8.0],
+                    &Soil::default(),
+                    tunnel,
+                    coarse,
+                    &out,
+                    progress,
+                    &Checkpoints::default(),
+                )
+            })
         };
         let cases = run(&|_, _| {}).expect("the case runs");
         // run again into the same folder: the case is kept, nothing runs, the report is the same

@@ -244,7 +244,7 @@ fn run_briefly(text: &str) -> Result<RunSummary, VerifyError> {
     static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let out = std::env::temp_dir().join(format!("blastsph-scene-{}-{k}", std::process::id()));
-    let result = run(&scene, &out, &mut |_| {});
+    let result = crate::on_one_thread(|| run(&scene, &out, &mut |_| {}));
     let _ = std::fs::remove_dir_all(&out);
     result
 }
@@ -626,7 +626,7 @@ fn an_air_blast_presses_on_the_top_layer_beyond_the_fireball() {
         static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
         let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let out = std::env::temp_dir().join(format!("blastsph-air-{}-{k}", std::process::id()));
-        let summary = run(&scene, &out, &mut |_| {});
+        let summary = crate::on_one_thread(|| run(&scene, &out, &mut |_| {}));
         let _ = std::fs::remove_dir_all(&out);
         summary.expect("the scene runs")
     };
