@@ -145,12 +145,40 @@ fn follow_the_hot_core(config: fn(TimeSteps) -> SimulationConfig) {
     assert!(ratio < 0.75, "updates: {ratio} of the global run's");
 }
 
-/// A blast into gas that is already converging: 200 particles of ideal gas (γ = 1.4, ρ = 1,
-/// p = 1e-4) between walls at 0 and 1 m flow at v = 0.3 sin 2πx, towards x = ½ (Dρ/Dt up to
-/// 1.9ρ), and a hot spot (p up to 10) at x = 0.15 drives shocks into it, to 0.25 s. Ahead of
-/// the shocks the cold gas (c = 0.012 m/s) steps far longer than behind them (the individual
-/// run makes 23 % of the global run's particle updates), so the particles the fronts reach
-/// are woken while their density still changes by the flow's compression; a woken
+/// A blast into gas that is already converging: n particles of ideal gas (γ = 1.4, ρ = 1,
+/// p = 1e-4) between walls at 0 and L flow at v = 0.3 sin 2πx/L (m/s, L = `unit` m), towards
+/// x = ½L, and a hot spot (p up to 10) at x = 0.15L drives shocks into it, in the formulation
+/// `config` gives.
+fn blast_into_converging_gas(n: usize, unit: f64, config: SimulationConfig) -> Simulation<1> {
+    let gas = IdealGas::new(1.4).unwrap();
+    let dx = 1.0 / n as f64;
+    let init: Vec<ParticleInit<1>> = (0..n)
+        .map(|k| {
+            let x = (k as f64 + 0.5) * dx;
+            let pressure = 1e-4 + 10.0 * (-((x - 0.15) / 0.02).powi(2)).exp();
+            ParticleInit {
+                position: Vector::<1>::new(x * unit),
+                velocity: Vector::<1>::new(0.3 * (2.0 * std::f64::consts::PI * x).sin()),
+                mass: dx * unit,
+                smoothing_length: 1.2 * dx * unit,
+                density: 1.0,
+                internal_energy: gas.internal_energy(1.0, pressure),
+                material: 0,
+            }
+        })
+        .collect();
+    let domain = Domain::new(
+        Vector::repeat(0.0),
+        Vector::repeat(unit),
+        [Boundary::Wall; 1],
+    );
+    Simulation::new(&init, vec![Material::new("gas", gas)], domain, config).unwrap()
+}
+
+/// The blast into converging gas of 200 particles over 1 m, to 0.25 s. Ahead of the shocks
+/// the cold gas (c = 0.012 m/s) steps far longer than behind them (the individual run makes
+/// 23 % of the global run's particle updates), so the particles the fronts reach are woken
+/// while their density still changes by the flow's compression (Dρ/Dt up to 1.9ρ); a woken
 /// particle's half-step density must be that of its shortened step. Continuity density with
 /// individual steps against global steps, their density's L1 difference (mean over particles)
 /// within 5e-2 (measured 6.7e-3; with the woken particles' density left at their longer
@@ -161,36 +189,13 @@ fn follow_the_hot_core(config: fn(TimeSteps) -> SimulationConfig) {
 #[test]
 fn woken_particles_keep_their_density_in_a_blast_into_converging_gas() {
     let n = 200;
-    let gas = IdealGas::new(1.4).unwrap();
-    let dx = 1.0 / n as f64;
-    let init: Vec<ParticleInit<1>> = (0..n)
-        .map(|k| {
-            let x = (k as f64 + 0.5) * dx;
-            let pressure = 1e-4 + 10.0 * (-((x - 0.15) / 0.02).powi(2)).exp();
-            ParticleInit {
-                position: Vector::<1>::new(x),
-                velocity: Vector::<1>::new(0.3 * (2.0 * std::f64::consts::PI * x).sin()),
-                mass: dx,
-                smoothing_length: 1.2 * dx,
-                density: 1.0,
-                internal_energy: gas.internal_energy(1.0, pressure),
-                material: 0,
-            }
-        })
-        .collect();
     let run = |time_steps| {
         let config = SimulationConfig {
             formulation: Formulation::Cartesian(Density::Continuity(SmoothingLength::Fixed)),
             time_steps,
             ..SimulationConfig::default()
         };
-        let domain = Domain::new(
-            Vector::repeat(0.0),
-            Vector::repeat(1.0),
-            [Boundary::Wall; 1],
-        );
-        let materials = vec![Material::new("gas", gas)];
-        let mut sim = Simulation::new(&init, materials, domain, config).unwrap();
+        let mut sim = blast_into_converging_gas(n, 1.0, config);
         let e0 = sim.particles().total_energy();
         sim.run_until(0.25, |_| {}).unwrap();
         let p = sim.particles();
@@ -207,6 +212,37 @@ fn woken_particles_keep_their_density_in_a_blast_into_converging_gas() {
         / n as f64;
     assert!(l1 < 5e-2, "density L1 {l1:e}");
     assert!(drift < 4e-4, "energy {drift:e}");
+}
+
+/// SPH has no length of its own: the blast into converging gas with individual steps and h
+/// following the density, over 1 m and over 2²⁰ m (times scaled alike, so that velocities,
+/// densities and pressures are the same numbers) to the same scaled time, gives the same
+/// state in units of the line. Scaling by a power of two is exact in floating point, so each
+/// position and h, over the line's length, agree to 1e-12 of it (a term fixed in metres, such
+/// as a cap on how far h may grow in a step, would part them by far more: the waiting
+/// particles' predicted h grows by metres per step at the longer scale).
+#[test]
+fn individual_steps_with_h_following_density_are_the_same_at_any_scale() {
+    let n = 100;
+    let run = |unit: f64| {
+        let mut sim = blast_into_converging_gas(n, unit, continuity(INDIVIDUAL));
+        sim.run_until(0.1 * unit, |_| {}).unwrap();
+        let p = sim.particles();
+        let mut scaled = vec![(0.0, 0.0); n];
+        for i in 0..p.n_real() {
+            scaled[p.id[i] as usize] = (p.position[i][0] / unit, p.smoothing_length[i] / unit);
+        }
+        (scaled, sim.steps())
+    };
+    let (metre, steps) = run(1.0);
+    let (long, long_steps) = run(f64::powi(2.0, 20));
+    assert_eq!(steps, long_steps);
+    for (a, b) in metre.iter().zip(&long) {
+        assert!(
+            (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12,
+            "{a:?} against {b:?}"
+        );
+    }
 }
 
 /// An elastic solid of Young's modulus E, Poisson's ratio ν and density ρ, with a linear bulk
