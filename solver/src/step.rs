@@ -2704,6 +2704,34 @@ mod tests {
         }
     }
 
+    /// Every REORDER_INTERVAL steps, from the first, the particles are stored in the order of
+    /// their cells along the Morton curve (in 1D, left to right), so that neighbours sit close
+    /// in memory. A uniform line at rest given from right to left is, after its first step,
+    /// stored cell by cell from left to right, and each particle keeps its identity: particle
+    /// k, given at x = 39 − k, is still there.
+    #[test]
+    fn particles_are_stored_in_the_order_of_their_cells() {
+        let mut init = unit_line(40, 1.2, |_| 0);
+        init.reverse();
+        let domain = Domain::new(
+            Vector::<1>::new(-0.5),
+            Vector::<1>::new(39.5),
+            [Boundary::Periodic],
+        );
+        let mut sim =
+            Simulation::new(&init, vec![gas()], domain, SimulationConfig::default()).unwrap();
+        let dt = sim.stable_time_step().unwrap();
+        sim.step(dt).unwrap();
+        let p = &sim.particles;
+        let x: Vec<f64> = p.position[..40].iter().map(|x| x[0]).collect();
+        let cell = sim.kernel.support_radius(1.2);
+        assert!(x[0] < cell && x[39] > 39.0 - cell, "{x:?}");
+        assert!(x.windows(2).all(|w| w[1] > w[0] - cell), "{x:?}");
+        for (x, id) in x.iter().zip(&p.id) {
+            assert!((x - (39 - id) as f64).abs() < 1e-9, "particle {id} at {x}");
+        }
+    }
+
     /// A run reports the inputs it was built with, and its clocks and counters advance: after
     /// ten steps each phase has taken some time, and the lists were searched at least once (at
     /// the start) and at most once per step and at the start.
