@@ -2704,6 +2704,86 @@ mod tests {
         }
     }
 
+    /// A particle set is refused by name where it is empty, or where a particle's mass,
+    /// smoothing length or density is not a finite positive number, its energy, position or
+    /// velocity is not finite, or its material is not among the scene's; the error names the
+    /// particle and the field. The edges pass: the smallest positive numbers and the last
+    /// material.
+    #[test]
+    fn bad_particles_are_refused_by_name() {
+        let build = |init: &[ParticleInit<1>]| {
+            Simulation::new(
+                init,
+                vec![gas(), unit_solid()],
+                Domain::open(),
+                SimulationConfig::default(),
+            )
+        };
+        let err = build(&[]).unwrap_err().to_string();
+        assert!(
+            err.contains("particles") && err.contains("at least one"),
+            "{err}"
+        );
+        type Spoil = fn(&mut ParticleInit<1>, f64);
+        let fields: [(&str, Spoil, &[f64]); 6] = [
+            (
+                "mass",
+                |p, v| p.mass = v,
+                &[0.0, -1.0, f64::NAN, f64::INFINITY],
+            ),
+            (
+                "smoothing length",
+                |p, v| p.smoothing_length = v,
+                &[0.0, -1.0, f64::NAN, f64::INFINITY],
+            ),
+            (
+                "density",
+                |p, v| p.density = v,
+                &[0.0, -1.0, f64::NAN, f64::INFINITY],
+            ),
+            (
+                "state",
+                |p, v| p.internal_energy = v,
+                &[f64::NAN, f64::INFINITY],
+            ),
+            (
+                "state",
+                |p, v| p.position[0] = v,
+                &[f64::NAN, f64::NEG_INFINITY],
+            ),
+            (
+                "state",
+                |p, v| p.velocity[0] = v,
+                &[f64::NAN, f64::INFINITY],
+            ),
+        ];
+        for (name, spoil, values) in fields {
+            for &value in values {
+                let mut init = unit_line(4, 1.5, |_| 0);
+                spoil(&mut init[2], value);
+                let err = build(&init).unwrap_err().to_string();
+                assert!(
+                    err.contains(&format!("particle 2 {name}")),
+                    "{value}: {err}"
+                );
+            }
+            let mut init = unit_line(4, 1.5, |_| 0);
+            spoil(&mut init[2], f64::MIN_POSITIVE);
+            assert!(
+                build(&init).is_ok(),
+                "{name} at the smallest positive number"
+            );
+        }
+        let mut init = unit_line(4, 1.5, |_| 1);
+        assert!(build(&init).is_ok(), "the last material");
+        init[3].material = 2;
+        let err = build(&init).unwrap_err().to_string();
+        assert!(
+            err.contains("particle 3 material") && err.contains("< 2"),
+            "{err}"
+        );
+    }
+
     /// Every REORDER_INTERVAL steps, from the first, the particles are stored in the order of
     /// their cells along the Morton curve (in 1D, left to right), so that neighbours sit close
     /// in memory. A uniform line at rest given from right to left is, after its first step,
