@@ -2704,6 +2704,51 @@ mod tests {
         }
     }
 
+    /// A particle's spacing from its volume, against the volume of a cell of known side Δ
+    /// (0.3): Δ in 1D, Δ² in 2D, Δ³ in 3D; a ring of square cross-section Δ × Δ at r = 2 holds
+    /// 2πrΔ²; a cylindrical ring of width Δ at r = 2 holds 2πrΔ and a spherical shell
+    /// 4π(r²Δ + Δ³/12).
+    #[test]
+    fn a_particles_spacing_is_the_side_of_the_cell_its_volume_fills() {
+        let (side, r): (f64, f64) = (0.3, 2.0);
+        let fixed = SmoothingLength::Fixed;
+        let cases = [
+            (Formulation::Cartesian(Density::Continuity(fixed)), 1, side),
+            (
+                Formulation::Cartesian(Density::Continuity(fixed)),
+                2,
+                side * side,
+            ),
+            (
+                Formulation::Cartesian(Density::Continuity(fixed)),
+                3,
+                side.powi(3),
+            ),
+            (
+                Formulation::Axisymmetric(fixed),
+                2,
+                2.0 * PI * r * side * side,
+            ),
+            (
+                Formulation::Cylindrical(ShellDensity::Continuity(fixed)),
+                1,
+                2.0 * PI * r * side,
+            ),
+            (
+                Formulation::Spherical(ShellDensity::Continuity(fixed)),
+                1,
+                4.0 * PI * (r * r * side + side.powi(3) / 12.0),
+            ),
+        ];
+        for (formulation, dimension, volume) in cases {
+            let spacing = particle_spacing(formulation, dimension, volume, r);
+            assert!(
+                (spacing - side).abs() < 1e-14,
+                "{formulation:?} in {dimension}D: {spacing}"
+            );
+        }
+    }
+
     /// A particle set is refused by name where it is empty, or where a particle's mass,
     /// smoothing length or density is not a finite positive number, its energy, position or
     /// velocity is not finite, or its material is not among the scene's; the error names the
