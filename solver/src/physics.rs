@@ -2014,6 +2014,56 @@ mod tests {
         assert_eq!(total.transmitted_power, books[0].transmitted_power + 11.0);
     }
 
+    /// The interface penalty from a wall image of another material is the wall's force too:
+    /// booked with the pressure and the viscosity as m a of the particle it pushes.
+    #[test]
+    fn an_interface_penalty_across_a_wall_is_booked_as_the_walls() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let mut p = approaching_pair(OptionalFields::default());
+        // particle 1 (material 1) far away; its mirror image across a wall lies beside particle
+        // 0 (material 0), at r = 0.22 with h̄ = 0.55: h̄/r = 2.5, inside the penalty's reach
+        p.position[1] = Vector::<2>::new(50.0, 0.0);
+        p.push_image(
+            1,
+            Vector::<2>::new(-1.0, 1.0),
+            Vector::<2>::new(50.2, 0.1),
+            true,
+        );
+        let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
+        let run = |interface_penalty| {
+            let mut q = p.clone();
+            let mut books = vec![RateTotals::default(); 2];
+            let viscosity = ArtificialViscosity {
+                interface_penalty,
+                ..distinct_viscosity()
+            };
+            let energy = EnergyEquation::OwnPressure;
+            let geometry = PairGeometry::Planar;
+            compute_rates(
+                &mut q,
+                &pairs,
+                &viscosity,
+                energy,
+                geometry,
+                &[0, 1],
+                &mut books,
+            );
+            (q.acceleration[0] * q.mass[0], books[0].wall_force)
+        };
+        let (plain, plain_booked) = run(None);
+        let (pushed, booked) = run(Some(InterfacePenalty::seed(10.0)));
+        assert!(
+            (pushed - plain).norm() > plain.norm(),
+            "the penalty acts: {plain} without, {pushed} with"
+        );
+        // the sums differ in their order of additions: a few roundings of the largest term
+        assert!((plain_booked - plain).norm() <= 1e-13 * plain.norm());
+        assert!(
+            (booked - pushed).norm() <= 1e-13 * pushed.norm(),
+            "{booked} booked against {pushed}"
+        );
+    }
+
     /// A fluid particle (G = 0) carries no artificial stress, even in tension, and gets no
     /// stress rate.
     #[test]
