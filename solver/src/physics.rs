@@ -2014,6 +2014,32 @@ mod tests {
         assert_eq!(total.transmitted_power, books[0].transmitted_power + 11.0);
     }
 
+    /// Grad-h lists a pair that only the larger smoothing length reaches, from both sides,
+    /// with the smaller one's derivative 0: its force acts through the larger kernel alone.
+    #[test]
+    fn grad_h_keeps_a_pair_that_only_the_larger_h_reaches() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let mut p = approaching_pair(OptionalFields {
+            grad_h: true,
+            ..OptionalFields::default()
+        });
+        // r = 0.447: beyond the support 2h of h_1 = 0.2, within that of h_0 = 0.6
+        p.smoothing_length[1] = 0.2;
+        let pairs = kernel_pairs(&p, &kernel, PairKernel::OwnH);
+        let links = |i: usize| {
+            let mut found = Vec::new();
+            pairs::Partners::visit(&pairs, i, |j, link: &KernelLink| {
+                found.push((j, link.dw_i, link.dw_j))
+            });
+            found
+        };
+        let r = (p.position[1] - p.position[0]).norm();
+        let larger = kernel.derivative(r, 0.6);
+        assert!(larger < 0.0);
+        assert_eq!(links(0), [(1, larger, 0.0)]);
+        assert_eq!(links(1), [(0, 0.0, larger)]);
+    }
+
     /// The interface penalty from a wall image of another material is the wall's force too:
     /// booked with the pressure and the viscosity as m a of the particle it pushes.
     #[test]
