@@ -143,13 +143,15 @@ impl Membrane {
     /// The sample's area: the [`Self::outline`] polygon less the strip of one particle radius
     /// between each chain's centre line and its inner edge.
     pub fn enclosed_area(&self, discs: &Discs) -> f64 {
-        let ring = self.outline(discs);
-        let shoelace: f64 = (0..ring.len())
-            .map(|k| {
-                let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-                a[0] * b[1] - a[1] * b[0]
-            })
-            .sum();
+        let mut ring = self.sides.iter().flatten().map(|&k| discs.position[k]);
+        let first = ring.next().expect("a membrane has particles");
+        let cross = |a: Vector<2>, b: Vector<2>| a[0] * b[1] - a[1] * b[0];
+        let (mut shoelace, mut last) = (0.0, first);
+        for next in ring {
+            shoelace += cross(last, next);
+            last = next;
+        }
+        shoelace += cross(last, first);
         let chain_length: f64 = self
             .sides
             .iter()
@@ -198,11 +200,11 @@ const WINDOW: usize = 500;
 const MAX_CONSOLIDATION_WINDOWS: usize = 400;
 
 /// The axial stress: the mean platen force over the mean width (area over height) and the
-/// layer thickness.
-fn axial_stress(discs: &Discs, membrane: &Membrane) -> f64 {
+/// layer thickness ([`Discs::layer_thickness`], fixed while the sample is tested).
+fn axial_stress(discs: &Discs, membrane: &Membrane, layer_thickness: f64) -> f64 {
     let height = discs.walls[1].point[1] - discs.walls[0].point[1];
     let force = 0.5 * (discs.wall_force[0][1].abs() + discs.wall_force[1][1].abs());
-    force * height / (membrane.enclosed_area(discs) * discs.layer_thickness())
+    force * height / (membrane.enclosed_area(discs) * layer_thickness)
 }
 
 /// Runs the test on a wrapped sample. First isotropic consolidation: the platens are servo
@@ -240,11 +242,12 @@ pub fn run_biaxial(
     }
     let dt = discs.critical_time_step(0.2);
     let sigma3 = loading.confining_stress;
-    let line_load = sigma3 * discs.layer_thickness();
+    let layer_thickness = discs.layer_thickness();
+    let line_load = sigma3 * layer_thickness;
     let step_once = |discs: &mut Discs| -> Result<f64, SolverError> {
         discs.compute_forces(dt)?;
         membrane.add_forces(discs, line_load);
-        let sigma1 = axial_stress(discs, membrane);
+        let sigma1 = axial_stress(discs, membrane, layer_thickness);
         discs.advance(dt)?;
         Ok(sigma1)
     };
@@ -724,7 +727,7 @@ mod tests {
         let width = WIDTH * (HEIGHT - 2.0 * R_MEMBRANE) / HEIGHT;
         let thickness = 2.0 * (1e-4 + 2e-4) / 2.0;
         let want = 3.0 / (width * thickness);
-        let got = axial_stress(&discs, &membrane);
+        let got = axial_stress(&discs, &membrane, discs.layer_thickness());
         assert!((got / want - 1.0).abs() < 1e-12, "{got} against {want}");
     }
 
