@@ -136,7 +136,8 @@ pub struct ArtificialStress {
 impl ArtificialStress {
     /// The pair's weight f^n, f = W(r)/W(Δp): by repeated squaring for a whole n (4 as a
     /// rule: two squarings, where the power function took 15 % of the colliding rings' time),
-    /// which differs from the power function by a rounding or two.
+    /// which differs from the power function by a rounding or two; the power function for a
+    /// fractional n or one beyond 64.
     #[inline]
     pub fn weight(&self, f: f64) -> f64 {
         if self.exponent.fract() == 0.0 && self.exponent.abs() <= 64.0 {
@@ -1516,6 +1517,15 @@ mod tests {
         };
         assert_eq!(fractional.weight(0.37), 0.37f64.powf(2.5));
         assert_eq!(ArtificialStress::default().weight(0.0), 0.0);
+        // a whole n beyond 64 takes the power function too: (1 − 1e-10)^1e10 = 1/e, where
+        // squarings would stop at the integer's limit 2³¹ − 1 (0.81)
+        let huge = ArtificialStress {
+            epsilon: 0.3,
+            exponent: 1e10,
+        };
+        let f = 1.0 - 1e-10;
+        assert_eq!(huge.weight(f), f.powf(1e10));
+        assert!((huge.weight(f) - (-1.0f64).exp()).abs() < 1e-6);
     }
 
     /// R = −ε Σ_{σ' > 0} σ'/ρ² n n^T: a state with one tensile principal stress along a
