@@ -133,17 +133,19 @@ impl Membrane {
 
     /// The polygon through the chains' centres, counter-clockwise (the platens close it).
     pub fn outline(&self, discs: &Discs) -> Vec<Vector<2>> {
-        self.sides
-            .iter()
-            .flatten()
-            .map(|&k| discs.position[k])
-            .collect()
+        self.corners(discs).collect()
+    }
+
+    /// The [`Self::outline`]'s corners in order, without collecting them (σ1 reads the area at
+    /// every step).
+    fn corners<'a>(&'a self, discs: &'a Discs) -> impl Iterator<Item = Vector<2>> + 'a {
+        self.sides.iter().flatten().map(|&k| discs.position[k])
     }
 
     /// The sample's area: the [`Self::outline`] polygon less the strip of one particle radius
     /// between each chain's centre line and its inner edge.
     pub fn enclosed_area(&self, discs: &Discs) -> f64 {
-        let mut ring = self.sides.iter().flatten().map(|&k| discs.position[k]);
+        let mut ring = self.corners(discs);
         let first = ring.next().expect("a membrane has particles");
         let cross = |a: Vector<2>, b: Vector<2>| a[0] * b[1] - a[1] * b[0];
         let (mut shoelace, mut last) = (0.0, first);
