@@ -570,11 +570,19 @@ fn solve_one<const D: usize>(
             hi = h;
         }
         let newton = h - f / f_prime;
-        let mut next = if f_prime > 0.0 && newton > lo && newton < hi {
+        // near the root the Newton step can be smaller than h's last digit, and h − f/f′ then
+        // rounds onto h, an end of the bracket: a step within the tolerance is taken (and ends
+        // the search) wherever it lands
+        let within_bracket = newton > lo && newton < hi;
+        let settled = (newton - h).abs() <= tolerance * h;
+        let mut next = if f_prime > 0.0 && (within_bracket || settled) {
             newton
         } else if hi.is_finite() {
             0.5 * (lo + hi)
         } else {
+            // no point above the root yet, where Newton always steps up: f′ = [D(ρ_η − ρ) −
+            // Σ m_j r_j ∂W_j/∂r]/h is positive wherever f < 0 for a kernel that falls with r, so
+            // this guards only against arithmetic that is not finite
             2.0 * h
         };
         if next > reach {
@@ -2210,8 +2218,8 @@ mod tests {
 
     /// Grad-h's root against brute-force sums: ρ = Σ_j m_j W(r_ij, h) at the returned h,
     /// h = η (m/ρ)^(1/2) within the tolerance, Ω = 1 + h/(2ρ) ∂ρ/∂h by central differences;
-    /// the same root from a guess far below (the doubling and bisection fallbacks) and far
-    /// above; a root beyond the reach reported as such.
+    /// the same root from a guess far below and far above; a root beyond the reach reported
+    /// as such.
     #[test]
     fn grad_h_solves_for_the_smoothing_length_of_its_own_density() {
         let p = shaken_lattice();
@@ -2273,6 +2281,56 @@ mod tests {
         match solve(0.13, &short)[0] {
             SmoothingSolution::BeyondReach { h } => assert!(h > 0.5 * root, "{h}"),
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// Grad-h's root from guesses a millionth of the reach up to the reach, on lattices a
+    /// millimetre, a metre and a kilometre across: every solve converges, to h = η (m/ρ)^(1/2)
+    /// with ρ the brute-force sum at h (to 1e-9: the solve stops on a step below 1e-10 h), and
+    /// the root scales with the lattice. Newton's last step near the root is often below h's
+    /// last digit, so h − f/f′ rounds onto h, an end of the bracket; refused there, it sent the
+    /// search into doubling and bisection, which ran out of iterations from the far guesses.
+    #[test]
+    fn grad_h_finds_the_same_root_from_any_guess_in_any_unit() {
+        let lattice = shaken_lattice();
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let (eta, tolerance) = (1.3, 1e-10);
+        let which: Vec<usize> = (0..lattice.n_real()).collect();
+        let mut roots_at_one_metre = Vec::new();
+        for scale in [1.0, 1e-3, 1e3] {
+            let mut p = lattice.clone();
+            p.position.iter_mut().for_each(|x| *x *= scale);
+            let reach = vec![0.4 * scale; p.n_real()];
+            let neighbours = find_neighbours(
+                &p.position,
+                &reach,
+                kernel.support_radius(1.0),
+                PairReach::LargerH,
+                p.n_real(),
+            );
+            for k in 0..=24 {
+                let guess = 0.4 * scale * 10f64.powf(-0.25 * k as f64);
+                let guesses = vec![guess; p.n_real()];
+                let solutions = solve_smoothing_lengths(
+                    &p,
+                    &neighbours,
+                    &kernel,
+                    (eta, tolerance),
+                    (&guesses, &reach),
+                    &which,
+                );
+                for (i, solution) in solutions.into_iter().enumerate() {
+                    let SmoothingSolution::Converged { h, .. } = solution else {
+                        panic!("scale {scale}, guess {guess}, particle {i}: {solution:?}");
+                    };
+                    let density = brute_density(&p, &kernel, i, h);
+                    assert_relative_eq!(h, eta * (p.mass[i] / density).sqrt(), max_relative = 1e-9);
+                    if scale == 1.0 && k == 0 {
+                        roots_at_one_metre.push(h);
+                    }
+                    assert_relative_eq!(h, scale * roots_at_one_metre[i], max_relative = 1e-9);
+                }
+            }
         }
     }
 
