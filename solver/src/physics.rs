@@ -570,12 +570,10 @@ fn solve_one<const D: usize>(
             hi = h;
         }
         let newton = h - f / f_prime;
-        // near the root the Newton step can be smaller than h's last digit, and h − f/f′ then
-        // rounds onto h, an end of the bracket: a step within the tolerance is taken (and ends
-        // the search) wherever it lands
-        let within_bracket = newton > lo && newton < hi;
-        let settled = (newton - h).abs() <= tolerance * h;
-        let mut next = if f_prime > 0.0 && (within_bracket || settled) {
+        // near the root Newton's step can be smaller than h's last digit: h − f/f′ is then h
+        // itself, an end of the bracket, and the search has converged
+        let settled = newton == h;
+        let mut next = if f_prime > 0.0 && (newton > lo && newton < hi || settled) {
             newton
         } else if hi.is_finite() {
             0.5 * (lo + hi)
