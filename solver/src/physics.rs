@@ -2449,6 +2449,38 @@ mod tests {
         }
     }
 
+    /// The kernel links in kilometres are those in metres: the same partners, r a thousand
+    /// times and dW/dr a billionth (W ∝ h⁻² in 2D) to 1e-13, with h̄ = 130 m, where a prefilter
+    /// that missed the mean of the two h would lose pairs.
+    #[test]
+    fn kernel_pairs_are_the_same_in_any_unit_of_length() {
+        let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
+        let metres = shaken_lattice();
+        let mut kilometres = metres.clone();
+        kilometres.position.iter_mut().for_each(|x| *x *= 1e3);
+        kilometres
+            .smoothing_length
+            .iter_mut()
+            .for_each(|h| *h *= 1e3);
+        let links = |p: &Particles<2>, i: usize| {
+            let mut links = Vec::new();
+            let pairs = kernel_pairs(p, &kernel, PairKernel::MeanH);
+            pairs::Partners::visit(&pairs, i, |j, link: &KernelLink| links.push((j, *link)));
+            links
+        };
+        for i in [0, 13, 40] {
+            let (small, large) = (links(&metres, i), links(&kilometres, i));
+            assert!(small.len() > 4, "particle {i}: {} links", small.len());
+            assert_eq!(small.len(), large.len(), "particle {i}");
+            for ((j, a), (k, b)) in small.iter().zip(&large) {
+                assert_eq!(j, k);
+                assert_relative_eq!(b.r, 1e3 * a.r, max_relative = 1e-13);
+                assert_relative_eq!(b.dw_i, 1e-9 * a.dw_i, max_relative = 1e-13);
+                assert_relative_eq!(b.dw_j, 1e-9 * a.dw_j, max_relative = 1e-13);
+            }
+        }
+    }
+
     /// The switch's step against its equation: without a source α relaxes to α_min as
     /// exp(−ℓ c t/h); under steady compression S it settles at the balance
     /// (α_min ℓc/h + S α_max)/(ℓc/h + S); two half steps make one whole step (the solution is
