@@ -2283,7 +2283,7 @@ mod tests {
     }
 
     /// Grad-h's root from guesses a millionth of the reach up to the reach, on lattices a
-    /// millimetre, a metre and a kilometre across: every solve converges, to h = η (m/ρ)^(1/2)
+    /// millimetre, a metre and a kilometre across, and from a billion times the root: every solve converges, to h = η (m/ρ)^(1/2)
     /// with ρ the brute-force sum at h (to 1e-9: the solve stops on a step below 1e-10 h), and
     /// the root scales with the lattice. Newton's last step near the root is often below h's
     /// last digit, so h − f/f′ rounds onto h, an end of the bracket; refused there, it sent the
@@ -2329,6 +2329,31 @@ mod tests {
                     assert_relative_eq!(h, scale * roots_at_one_metre[i], max_relative = 1e-9);
                 }
             }
+        }
+        // from a billion times the root, every particle within reach: halvings down to it
+        // (about 31), then Newton's few steps within the 60 iterations allowed (bisection alone
+        // would need 33 more)
+        let far = vec![4e8; lattice.n_real()];
+        let everyone = find_neighbours(
+            &lattice.position,
+            &far,
+            kernel.support_radius(1.0),
+            PairReach::LargerH,
+            lattice.n_real(),
+        );
+        let solutions = solve_smoothing_lengths(
+            &lattice,
+            &everyone,
+            &kernel,
+            (eta, tolerance),
+            (&far, &far),
+            &which,
+        );
+        for (i, solution) in solutions.into_iter().enumerate() {
+            let SmoothingSolution::Converged { h, .. } = solution else {
+                panic!("from far above, particle {i}: {solution:?}");
+            };
+            assert_relative_eq!(h, roots_at_one_metre[i], max_relative = 1e-9);
         }
     }
 
