@@ -2294,11 +2294,10 @@ mod tests {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
         let (eta, tolerance) = (1.3, 1e-10);
         let which: Vec<usize> = (0..lattice.n_real()).collect();
-        let mut roots_at_one_metre = Vec::new();
-        for scale in [1.0, 1e-3, 1e3] {
-            let mut p = lattice.clone();
-            p.position.iter_mut().for_each(|x| *x *= scale);
-            let reach = vec![0.4 * scale; p.n_real()];
+        // every particle's root from `guess`, lists at `reach`, each checked against the
+        // brute-force density at it
+        let roots = |p: &Particles<2>, reach: f64, guess: f64| -> Vec<f64> {
+            let reach = vec![reach; p.n_real()];
             let neighbours = find_neighbours(
                 &p.position,
                 &reach,
@@ -2306,54 +2305,45 @@ mod tests {
                 PairReach::LargerH,
                 p.n_real(),
             );
+            let guesses = vec![guess; p.n_real()];
+            let solutions = solve_smoothing_lengths(
+                p,
+                &neighbours,
+                &kernel,
+                (eta, tolerance),
+                (&guesses, &reach),
+                &which,
+            );
+            let mut roots = Vec::new();
+            for (i, solution) in solutions.into_iter().enumerate() {
+                let SmoothingSolution::Converged { h, .. } = solution else {
+                    panic!(
+                        "reach {}, guess {guess}, particle {i}: {solution:?}",
+                        reach[i]
+                    );
+                };
+                let density = brute_density(p, &kernel, i, h);
+                assert_relative_eq!(h, eta * (p.mass[i] / density).sqrt(), max_relative = 1e-9);
+                roots.push(h);
+            }
+            roots
+        };
+        let at_one_metre = roots(&lattice, 0.4, 0.4);
+        for scale in [1.0, 1e-3, 1e3] {
+            let mut p = lattice.clone();
+            p.position.iter_mut().for_each(|x| *x *= scale);
             for k in 0..=24 {
                 let guess = 0.4 * scale * 10f64.powf(-0.25 * k as f64);
-                let guesses = vec![guess; p.n_real()];
-                let solutions = solve_smoothing_lengths(
-                    &p,
-                    &neighbours,
-                    &kernel,
-                    (eta, tolerance),
-                    (&guesses, &reach),
-                    &which,
-                );
-                for (i, solution) in solutions.into_iter().enumerate() {
-                    let SmoothingSolution::Converged { h, .. } = solution else {
-                        panic!("scale {scale}, guess {guess}, particle {i}: {solution:?}");
-                    };
-                    let density = brute_density(&p, &kernel, i, h);
-                    assert_relative_eq!(h, eta * (p.mass[i] / density).sqrt(), max_relative = 1e-9);
-                    if scale == 1.0 && k == 0 {
-                        roots_at_one_metre.push(h);
-                    }
-                    assert_relative_eq!(h, scale * roots_at_one_metre[i], max_relative = 1e-9);
+                for (h, root) in roots(&p, 0.4 * scale, guess).iter().zip(&at_one_metre) {
+                    assert_relative_eq!(*h, scale * root, max_relative = 1e-9);
                 }
             }
         }
         // from a billion times the root, every particle within reach: halvings down to it
         // (about 31), then Newton's few steps within the 60 iterations allowed (bisection alone
         // would need 33 more)
-        let far = vec![4e8; lattice.n_real()];
-        let everyone = find_neighbours(
-            &lattice.position,
-            &far,
-            kernel.support_radius(1.0),
-            PairReach::LargerH,
-            lattice.n_real(),
-        );
-        let solutions = solve_smoothing_lengths(
-            &lattice,
-            &everyone,
-            &kernel,
-            (eta, tolerance),
-            (&far, &far),
-            &which,
-        );
-        for (i, solution) in solutions.into_iter().enumerate() {
-            let SmoothingSolution::Converged { h, .. } = solution else {
-                panic!("from far above, particle {i}: {solution:?}");
-            };
-            assert_relative_eq!(h, roots_at_one_metre[i], max_relative = 1e-9);
+        for (h, root) in roots(&lattice, 4e8, 4e8).iter().zip(&at_one_metre) {
+            assert_relative_eq!(h, root, max_relative = 1e-9);
         }
     }
 
