@@ -1587,6 +1587,14 @@ mod tests {
         );
     }
 
+    /// [`approaching_pair`] with deviatoric stress fields (zero), for the stress passes.
+    fn approaching_solids() -> Particles<2> {
+        approaching_pair(OptionalFields {
+            stress: true,
+            ..OptionalFields::default()
+        })
+    }
+
     /// Two interacting 2D particles of different materials with every property distinct
     /// (mass, h, ρ, p, c, u, velocity; approaching), and four far away that interact with
     /// nothing: passes over one particle among six read their partners directly, over two
@@ -1973,11 +1981,7 @@ mod tests {
     #[test]
     fn a_wall_image_force_is_booked_as_the_walls() {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
-        let optional = OptionalFields {
-            stress: true,
-            ..OptionalFields::default()
-        };
-        let mut p = approaching_pair(optional);
+        let mut p = approaching_solids();
         // particle 1 far away, particle 0 mirrored across the wall x = 0.15
         p.position[1] = Vector::<2>::new(50.0, 0.0);
         p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
@@ -2037,11 +2041,7 @@ mod tests {
     #[test]
     fn far_from_the_axis_rings_feel_the_planar_stress_forces() {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
-        let optional = OptionalFields {
-            stress: true,
-            ..OptionalFields::default()
-        };
-        let mut planar = approaching_pair(optional);
+        let mut planar = approaching_solids();
         // both in tension, so that the artificial stress acts on both
         planar.pressure[..2].copy_from_slice(&[-3.0, -7.0]);
         planar.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
@@ -2164,11 +2164,7 @@ mod tests {
     #[test]
     fn a_fluid_particle_gets_no_artificial_stress_and_no_stress_rate() {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
-        let optional = OptionalFields {
-            stress: true,
-            ..OptionalFields::default()
-        };
-        let mut p = approaching_pair(optional);
+        let mut p = approaching_solids();
         p.pressure[0] = -3.0;
         p.deviatoric_stress[0] = Tensor::<2>::new(1.5, 0.7, 0.7, -0.4);
         let pairs = kernel_pairs(&p, &kernel, PairKernel::MeanH);
@@ -2207,6 +2203,18 @@ mod tests {
         Particles::new(&init, OptionalFields::default())
     }
 
+    /// Lists of every pair within the kernel's reach at the larger of the two `reach`es, as
+    /// grad-h's solve needs them.
+    fn grad_h_lists(p: &Particles<2>, kernel: &Kernel<2>, reach: &[f64]) -> NeighbourList {
+        find_neighbours(
+            &p.position,
+            reach,
+            kernel.support_radius(1.0),
+            PairReach::LargerH,
+            p.n_real(),
+        )
+    }
+
     /// Σ_j m_j W(r, h) over every particle by brute force (the particle itself included).
     fn brute_density(p: &Particles<2>, kernel: &Kernel<2>, i: usize, h: f64) -> f64 {
         (0..p.n_real())
@@ -2224,13 +2232,7 @@ mod tests {
         let kernel = Kernel::<2>::new(KernelShape::CubicSpline);
         let (eta, tolerance) = (1.3, 1e-10);
         let reach = vec![0.4; p.n_real()];
-        let neighbours = find_neighbours(
-            &p.position,
-            &reach,
-            kernel.support_radius(1.0),
-            PairReach::LargerH,
-            p.n_real(),
-        );
+        let neighbours = grad_h_lists(&p, &kernel, &reach);
         let which = [40, 0, 13];
         let solve = |guess: f64, reach: &[f64]| {
             let guesses = vec![guess; p.n_real()];
@@ -2298,13 +2300,7 @@ mod tests {
         // brute-force density at it
         let roots = |p: &Particles<2>, reach: f64, guess: f64| -> Vec<f64> {
             let reach = vec![reach; p.n_real()];
-            let neighbours = find_neighbours(
-                &p.position,
-                &reach,
-                kernel.support_radius(1.0),
-                PairReach::LargerH,
-                p.n_real(),
-            );
+            let neighbours = grad_h_lists(p, &kernel, &reach);
             let guesses = vec![guess; p.n_real()];
             let solutions = solve_smoothing_lengths(
                 p,
