@@ -630,6 +630,18 @@ mod tests {
         assert_eq!((none.len(), none.pair_count()), (0, 0));
     }
 
+    /// A pair is within reach only for r < κ·h: at r exactly κ·h the kernel and its slope are
+    /// zero, so the particle one spacing away is no partner when the reach is exactly one
+    /// spacing (h = 0.5, κ = 2, all exact in binary), under either reach rule.
+    #[test]
+    fn a_particle_exactly_at_the_reach_is_no_partner() {
+        let x: Vec<Vector<1>> = (0..5).map(|i| Vector::<1>::new(i as f64)).collect();
+        for reach in [PairReach::MeanH, PairReach::LargerH] {
+            let lists = find_neighbours(&x, &[0.5; 5], 2.0, reach, 5);
+            assert_eq!(lists.pair_count(), 0, "{reach:?}");
+        }
+    }
+
     /// Cells as wide as asked, floor(extent / size) + 1 of them per axis, and every particle in
     /// the cell whose box holds it (its distance from the cell's centre at most half a side
     /// on each axis).
