@@ -15,12 +15,13 @@
 //!   thickness) shifted onto the envelope as c = σ_t tan φ_dry (Pierrat & Caram 1997);
 //! - moisture changes φ by less than 3° (10° at the quick level: one 300-grain sample per
 //!   point scatters; seeds 1, 2, 3 measured changes of 7.6°, 2.6° and 8.3°);
-//! - quasi-static loading: the inertial number ε̇ d̄ √(ρ/σ3) stays below 1e-3, and the mean σ1
-//!   from 1 % strain to the end of the slow run (`rate_share` of the loading: all of it, half
-//!   at the quick level) of the first seed and saturation at the highest σ3 moves by less
-//!   than 4 % (10 % at the quick level) when the platens run at half the speed (the platens
-//!   are slowed, in proportion to σ3, until the damping number is below 4e-3: see
-//!   `DAMPING_NUMBER_LIMIT`);
+//! - quasi-static loading: the mean σ1 from 1 % strain to the end of the slow run
+//!   (`rate_share` of the loading: all of it, half at the quick level) of the first seed and
+//!   saturation at the highest σ3 moves by less than 4 % (10 % at the quick level) when the
+//!   platens run at half the speed (the platens are slowed, in proportion to σ3, until the
+//!   damping number is below 4e-3: see `DAMPING_NUMBER_LIMIT`). The inertial number
+//!   ε̇ d̄ √(ρ/σ3) is recorded, not checked: the speeds are chosen to hold it at or below 5e-4
+//!   ([`platen_speeds`]), inside the quasi-static regime below 1e-3 (GDR MiDi 2004);
 //! - the friction study: more friction between grains prepares a sample with a larger void
 //!   ratio and a lower coordination number.
 
@@ -494,13 +495,6 @@ pub fn run(
         ] {
             run.metrics.insert(key.into(), value);
         }
-        // quasi-static: the inertial number below 1e-3 (GDR MiDi 2004: the quasi-static
-        // regime; measured 1.3e-4–2.6e-4)
-        checks.push(Check::at_most(
-            format!("inertial_number_{label}"),
-            s.inertial_number,
-            1e-3,
-        ));
         for r in &s.run.records {
             table.rows.push(vec![
                 s.saturation,
