@@ -1,5 +1,6 @@
 //! Solids: the stress terms conserve momentum and energy, a rotating body keeps its stress
-//! state's invariants, and plastic flow never leaves the yield surface.
+//! state's invariants, plastic flow never leaves the yield surface, and a transmitting side
+//! damps shear with the shear-wave speed.
 
 use blastsph_solver::particles::ParticleInit;
 use blastsph_solver::strength::von_mises;
@@ -405,4 +406,56 @@ fn heat_and_plastic_work_close_the_energy_balance() {
             config.formulation
         );
     }
+}
+
+/// A transmitting side damps each velocity component with its own wave speed (Lysmer &
+/// Kuhlemeyer 1969): the normal one with the P wave's, the tangential ones with the shear
+/// wave's √(G/ρ). Copper at its reference density, unstressed, every particle moving at
+/// (1, 1) m/s: no pair force acts (no pressure, no stress, no relative motion), so a particle
+/// near the transmitting sides x = 0 and x = 1 cm feels the dashpots alone, and its normal over
+/// its tangential acceleration is c/√(G/ρ) exactly (to round-off).
+#[test]
+fn a_transmitting_side_damps_shear_with_the_shear_wave_speed() {
+    let n = 20;
+    let dx = 0.01 / n as f64;
+    let init: Vec<ParticleInit<2>> = (0..n * n)
+        .map(|k| ParticleInit {
+            position: Vector::<2>::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5) * dx,
+            velocity: Vector::<2>::new(1.0, 1.0),
+            mass: 8930.0 * dx * dx,
+            smoothing_length: 1.2 * dx,
+            density: 8930.0,
+            internal_energy: 0.0,
+            material: 0,
+        })
+        .collect();
+    let domain = Domain::new(
+        Vector::<2>::zeros(),
+        Vector::<2>::repeat(0.01),
+        [Boundary::Transmitting, Boundary::Periodic],
+    );
+    let config = SimulationConfig {
+        formulation: Formulation::Cartesian(CONTINUITY),
+        ..SimulationConfig::default()
+    };
+    let sim = Simulation::new(&init, vec![copper(1e20)], domain, config).unwrap();
+    let (g, _) = Strength::elastic_moduli(117e9, 0.35).unwrap();
+    let shear_speed = (g / 8930.0).sqrt();
+    let p = sim.particles();
+    let largest = (0..p.n_real())
+        .map(|i| p.acceleration[i].norm())
+        .fold(0.0, f64::max);
+    let mut damped = 0;
+    for i in 0..p.n_real() {
+        let a = p.acceleration[i];
+        if a.norm() < 1e-9 * largest {
+            continue;
+        }
+        damped += 1;
+        let ratio = (a[0] / a[1]) / (p.sound_speed[i] / shear_speed);
+        assert!((ratio - 1.0).abs() < 1e-12, "particle {i}: {ratio}");
+        assert!(a[0] < 0.0 && a[1] < 0.0, "particle {i}: {a:?}");
+    }
+    // at least the column next to each side, within any kernel's reach of it
+    assert!(damped >= 2 * n, "{damped} damped");
 }
