@@ -73,12 +73,28 @@ fn copper_box_configured(
     config: SimulationConfig,
     velocity: impl Fn(usize) -> Vector<2>,
 ) -> Simulation<2> {
+    let init = copper_lattice(n, 0.1, velocity);
+    let domain = Domain::new(
+        Vector::<2>::zeros(),
+        Vector::<2>::repeat(0.01),
+        [Boundary::Periodic; 2],
+    );
+    Simulation::new(&init, vec![copper(yield_stress)], domain, config).unwrap()
+}
+
+/// Copper at rest density on an n × n lattice filling 1 cm², each particle moved off its
+/// site by up to `jitter` spacings per axis, particle k at `velocity(k)`.
+fn copper_lattice(
+    n: usize,
+    jitter: f64,
+    velocity: impl Fn(usize) -> Vector<2>,
+) -> Vec<ParticleInit<2>> {
     let dx = 0.01 / n as f64;
-    let init: Vec<ParticleInit<2>> = (0..n * n)
+    (0..n * n)
         .map(|k| {
             let position = Vector::<2>::new(
-                ((k % n) as f64 + 0.5 + 0.1 * noise(k, 1)) * dx,
-                ((k / n) as f64 + 0.5 + 0.1 * noise(k, 2)) * dx,
+                ((k % n) as f64 + 0.5 + jitter * noise(k, 1)) * dx,
+                ((k / n) as f64 + 0.5 + jitter * noise(k, 2)) * dx,
             );
             ParticleInit {
                 position,
@@ -90,13 +106,7 @@ fn copper_box_configured(
                 material: 0,
             }
         })
-        .collect();
-    let domain = Domain::new(
-        Vector::<2>::zeros(),
-        Vector::<2>::repeat(0.01),
-        [Boundary::Periodic; 2],
-    );
-    Simulation::new(&init, vec![copper(yield_stress)], domain, config).unwrap()
+        .collect()
 }
 
 fn run_steps(sim: &mut Simulation<2>, steps: usize, dt: f64) {
@@ -417,18 +427,7 @@ fn heat_and_plastic_work_close_the_energy_balance() {
 #[test]
 fn a_transmitting_side_damps_shear_with_the_shear_wave_speed() {
     let n = 20;
-    let dx = 0.01 / n as f64;
-    let init: Vec<ParticleInit<2>> = (0..n * n)
-        .map(|k| ParticleInit {
-            position: Vector::<2>::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5) * dx,
-            velocity: Vector::<2>::new(1.0, 1.0),
-            mass: 8930.0 * dx * dx,
-            smoothing_length: 1.2 * dx,
-            density: 8930.0,
-            internal_energy: 0.0,
-            material: 0,
-        })
-        .collect();
+    let init = copper_lattice(n, 0.0, |_| Vector::<2>::new(1.0, 1.0));
     let domain = Domain::new(
         Vector::<2>::zeros(),
         Vector::<2>::repeat(0.01),
