@@ -527,6 +527,14 @@ mod tests {
         assert_eq!(solid.return_map(&mut s, &at(10e6)), 0.0);
         assert_eq!(s, trial);
         assert!(!solid.failed_in_tension(10e6, &s));
+        // plane strain s = diag(3, −3) MPa at p = 0: σ₁ = 3 MPa stays under f_t although the
+        // quick bound √(2 s:s/3) = 3.46 MPa passes it, so the eigenvalue decides
+        let under = Matrix2::new(3e6, 0.0, 0.0, -3e6);
+        assert!(principal_deviator_bound(&under) > 3.2e6);
+        let mut s = under;
+        solid.return_map(&mut s, &at(0.0));
+        assert_eq!(s, under);
+        assert!(!solid.failed_in_tension(0.0, &s));
         // without a tensile strength the same tension is elastic
         let ductile = Strength::new(14e9, 35e6, 0.0).unwrap();
         let mut s = trial;
@@ -599,6 +607,11 @@ mod tests {
         assert_eq!(at(-2e3), 0.0);
         let s = Matrix2::zeros();
         assert!(soil.failed_in_tension(-2e3, &s) && !soil.failed_in_tension(-0.5e3, &s));
+        // at the cutoff itself the soil keeps the cone's strength and has not failed; the next
+        // pressure below it has neither
+        assert!(at(-1e3) > 0.0 && !soil.failed_in_tension(-1e3, &s));
+        let beyond = (-1e3f64).next_down();
+        assert!(at(beyond) == 0.0 && soil.failed_in_tension(beyond, &s));
         let mut s = Matrix2::new(1e6, 0.0, 0.0, -1e6);
         soil.return_map(
             &mut s,
@@ -775,6 +788,12 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("Poisson") && err.contains("0.5"), "{err}");
+        for young in [0.0, -117e9, f64::INFINITY, f64::NAN] {
+            let err = Strength::elastic_moduli(young, 0.35)
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains("Young's modulus"), "E = {young}: {err}");
+        }
         let (g, k) = Strength::elastic_moduli(117e9, 0.35).unwrap();
         assert!((g - 43.333e9).abs() < 1e7 && (k - 130e9).abs() < 1e7);
     }
