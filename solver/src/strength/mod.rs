@@ -784,6 +784,18 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("yield stress"));
+        for hardening in [-1.0, f64::NAN, f64::INFINITY] {
+            let err = Strength::new(1.0, 1.0, hardening).unwrap_err().to_string();
+            assert!(err.contains("hardening modulus"), "H = {hardening}: {err}");
+        }
+        let mut jc = copper_jc();
+        jc.b = -1.0;
+        let err = Strength::johnson_cook(46e9, jc).unwrap_err().to_string();
+        assert!(err.contains("Johnson-Cook B"), "{err}");
+        let mut jc = copper_jc();
+        jc.c = f64::NAN;
+        let err = Strength::johnson_cook(46e9, jc).unwrap_err().to_string();
+        assert!(err.contains("Johnson-Cook C"), "{err}");
         let err = Strength::elastic_moduli(117e9, 0.5)
             .unwrap_err()
             .to_string();
