@@ -666,6 +666,20 @@ mod tests {
             ..base
         };
         assert!((y(fast) / 90e6 - (1.0 + 0.025 * 1e4f64.ln())).abs() < 1e-12);
+        // the rate enters as ε̇/ε̇0: with ε̇0 = 1e-3 s⁻¹ the same rate is 1e7 reference rates
+        let per_millisecond = Strength::johnson_cook(
+            46e9,
+            JohnsonCook {
+                reference_rate: 1e-3,
+                ..jc
+            },
+        )
+        .unwrap();
+        let factor = per_millisecond.current_yield(&fast) / 90e6;
+        assert!(
+            (factor - (1.0 + 0.025 * 1e7f64.ln())).abs() < 1e-12,
+            "{factor}"
+        );
         // below the reference rate the rate factor stays 1
         assert_eq!(
             y(YieldState {
