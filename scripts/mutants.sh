@@ -27,6 +27,12 @@
 #
 #   scripts/mutants.sh --file F -F "$(python3 -c 'import re,sys; print("|".join("^"+re.escape(l.strip())+"$" for l in open(sys.argv[1]) if l.strip()))' mutants.out/missed.txt)" -C --lib -C --test=integration
 #
+# A file's rate holds for the code that was run. After a change to it, run the mutants of the
+# changed lines (REV: the commit its row in mutants-equivalent.md was measured at):
+#
+#   git diff -U0 REV -- solver/src > /tmp/change.diff
+#   scripts/mutants.sh --in-diff /tmp/change.diff -C --lib -C --test=integration
+#
 # The package's integration tests are one binary, `integration`, a module per subject. The first
 # `--` ends cargo-mutants' options and passes the rest to `cargo test`, whose own `--` passes
 # filters to every test binary: `-- -- step:: individual_steps::` runs only those modules (and
