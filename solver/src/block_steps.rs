@@ -307,4 +307,27 @@ mod tests {
             assert_eq!(block.time(), end);
         }
     }
+
+    /// When particle 1 leaves, particle 2 becomes particle 1 and keeps its own step and its
+    /// start: a step of 2 started at time 2, beside particle 1's step of 8 started at 0.
+    #[test]
+    fn the_steps_of_the_particles_that_stay_follow_them() {
+        let mut block = BlockSteps::new(0.0, &[1.0, 8.0, 2.0], 1024, 1000.0);
+        for (i, dt) in [1.0, 8.0, 2.0].into_iter().enumerate() {
+            block.start_step(i, dt, u64::MAX).unwrap();
+        }
+        block.advance();
+        block.start_step(0, 1.0, u64::MAX).unwrap();
+        block.advance();
+        for i in [0, 2] {
+            block.start_step(i, [1.0, 8.0, 2.0][i], u64::MAX).unwrap();
+        }
+        block.advance();
+        assert_eq!((block.step_of(1), block.elapsed(1)), (8.0, 3.0));
+        assert_eq!((block.step_of(2), block.elapsed(2)), (2.0, 1.0));
+        block.keep_only(&[0, 2]);
+        assert_eq!((block.step_of(1), block.elapsed(1)), (2.0, 1.0));
+        assert_eq!((block.step_of(0), block.elapsed(0)), (1.0, 1.0));
+        assert!(block.ends_now(0) && !block.ends_now(1));
+    }
 }
