@@ -580,6 +580,23 @@ mod tests {
         );
     }
 
+    /// A point is beyond an outflow side only past it (on the plane it is not), and only past
+    /// a side that is an outflow side: here the upper x and the lower y, beside a wall and an
+    /// open side; a domain of walls and open sides has none.
+    #[test]
+    fn a_point_is_beyond_an_outflow_side_only_past_one() {
+        let (o, w) = (Boundary::Outflow, Boundary::Wall);
+        let (lo, hi) = (Vector::<2>::zeros(), Vector::<2>::repeat(1.0));
+        let domain = Domain::with_sides(lo, hi, [w, o], [o, Boundary::Open]).unwrap();
+        assert!(domain.has_outflow());
+        let beyond = |x: f64, y: f64| domain.beyond_outflow(&Vector::<2>::new(x, y));
+        assert!(beyond(1.01, 0.5) && beyond(0.5, -0.01) && beyond(1.01, -0.01));
+        assert!(!beyond(1.0, 0.5) && !beyond(0.5, 0.0) && !beyond(0.5, 0.5));
+        assert!(!beyond(-0.01, 0.5) && !beyond(0.5, 1.01));
+        let closed = Domain::with_sides(lo, hi, [w, w], [Boundary::Open, w]).unwrap();
+        assert!(!closed.has_outflow() && !closed.beyond_outflow(&Vector::<2>::new(2.0, -1.0)));
+    }
+
     /// A side is periodic on both ends of its axis or on neither, and an axis needs lo < hi:
     /// anything else is refused, naming the axis.
     #[test]
