@@ -408,7 +408,8 @@ mod tests {
 
     const FOLLOW: SmoothingLength = SmoothingLength::FollowDensity { eta: 1.2 };
 
-    /// What the records print for each formulation, and the η each one carries.
+    /// What the records print for each formulation, the η each one carries and how each finds
+    /// its density.
     #[test]
     fn names_and_eta_of_every_formulation() {
         let cases = [
@@ -470,6 +471,18 @@ mod tests {
             assert_eq!(formulation.smoothing_name(), smoothing, "{formulation:?}");
             assert_eq!(formulation.solids_name(), solids, "{formulation:?}");
             assert_eq!(formulation.eta(), eta, "{formulation:?}");
+            // one way to the density: the continuity equation, a sum at a known h, grad-h's
+            // sum solved with h, or the deformation gradient
+            assert_eq!(
+                formulation.integrates_density(),
+                density == "continuity",
+                "{formulation:?}"
+            );
+            assert_eq!(
+                formulation.sums_density(),
+                density == "summation" && smoothing != "grad-h",
+                "{formulation:?}"
+            );
         }
     }
 
