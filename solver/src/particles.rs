@@ -515,6 +515,22 @@ mod tests {
         }
     }
 
+    /// Keeping particles 1 and 3 of four leaves two, each field of new index k holding kept
+    /// particle k's value.
+    #[test]
+    fn keep_only_drops_the_others_and_moves_every_field() {
+        let mut p = labelled();
+        p.keep_only(&[1, 3]);
+        assert_eq!((p.n_real(), p.len(), p.mass.len()), (2, 2, 2));
+        for (k, old) in [1.0, 3.0].into_iter().enumerate() {
+            assert_eq!(p.id[k], old as u32);
+            assert_eq!(p.position[k][0], old);
+            assert_eq!(p.mass[k], 1.0 + old);
+            assert_eq!(p.plastic_strain[k], old);
+            assert_eq!(p.deviatoric_stress[k][(0, 1)], old);
+        }
+    }
+
     /// An image across a wall normal to x carries its source's scalars, its velocity with the
     /// normal component flipped and its stress with the shear component flipped; refreshing
     /// copies the source's new state the same way; clearing removes every image's fields.
