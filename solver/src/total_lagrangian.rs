@@ -871,6 +871,41 @@ mod tests {
         }
     }
 
+    /// The partner lists are symmetric, hold no particle's own index (a particle beside the
+    /// mirror is bonded to its own image) and are never empty in a block; what the rates of a
+    /// few particles read is they and their partners, ascending.
+    #[test]
+    fn partner_lists_are_symmetric_and_the_rates_read_the_partners() {
+        let (p, domain) = block(1.0);
+        let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
+        let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
+        let lists = reference.partner_lists();
+        let n = p.n_real();
+        let self_bonded = (0..n)
+            .filter(|&i| reference.bonds_of(i).iter().any(|b| b.other as usize == i))
+            .count();
+        assert!(self_bonded > 0, "no particle is bonded to its own image");
+        for i in 0..n {
+            let partners: Vec<usize> = lists.of(i).collect();
+            assert!(
+                !partners.is_empty() && !partners.contains(&i),
+                "{i}: {partners:?}"
+            );
+            for &j in &partners {
+                assert!(
+                    lists.of(j).any(|k| k == i),
+                    "{i} lists {j}, not the reverse"
+                );
+            }
+        }
+        let which = [3, 40, 77];
+        let mut expected: Vec<usize> = which.iter().flat_map(|&i| lists.of(i)).collect();
+        expected.extend(which);
+        expected.sort_unstable();
+        expected.dedup();
+        assert_eq!(reference.with_partners(&which), expected);
+    }
+
     /// Two bonded particles driven onto one point: their bond has no direction, and the
     /// hourglass control leaves it out rather than dividing by its zero length, so every
     /// rate stays finite.
