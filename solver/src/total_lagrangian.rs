@@ -873,10 +873,12 @@ mod tests {
 
     /// The partner lists are symmetric, hold no particle's own index (a particle beside the
     /// mirror is bonded to its own image) and are never empty in a block; what the rates of a
-    /// few particles read is they and their partners, ascending.
+    /// few particles read is they and their partners, ascending, and their rates evaluated
+    /// alone are those of the whole block's evaluation, bitwise (the same sums in the same
+    /// order), on a deformed, moving block.
     #[test]
     fn partner_lists_are_symmetric_and_the_rates_read_the_partners() {
-        let (p, domain) = block(1.0);
+        let (mut p, domain) = block(1.0);
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
         let lists = reference.partner_lists();
@@ -904,6 +906,23 @@ mod tests {
         expected.sort_unstable();
         expected.dedup();
         assert_eq!(reference.with_partners(&which), expected);
+        for k in 0..n {
+            let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
+            p.position[k][1] += if parity == 0 { 0.01 } else { -0.01 };
+            p.velocity[k] = Vector::<3>::new(0.1 * k as f64, -0.2, 0.05 * (k % 7) as f64);
+        }
+        let materials = [solid(1.0, 1.0)];
+        let viscosity = ArtificialViscosity::default();
+        let mut whole = p.clone();
+        evaluate_all(&reference, &mut whole, &materials, &viscosity, 1.0).unwrap();
+        reference
+            .evaluate(&mut p, &materials, &viscosity, 1.0, &which)
+            .unwrap();
+        for i in which {
+            assert_eq!(p.acceleration[i], whole.acceleration[i], "particle {i}");
+            assert_eq!(p.energy_rate[i], whole.energy_rate[i], "particle {i}");
+            assert_eq!(p.stress_rate[i], whole.stress_rate[i], "particle {i}");
+        }
     }
 
     /// Two bonded particles driven onto one point: their bond has no direction, and the
