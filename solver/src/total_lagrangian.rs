@@ -624,6 +624,16 @@ mod tests {
             .with_strength(crate::strength::Strength::elastic(shear).unwrap())
     }
 
+    /// ±1 in a checkerboard over [`block`]'s 6×5×4 lattice: a displacement mode the
+    /// corrected gradient cannot see.
+    fn checkerboard_sign(k: usize) -> f64 {
+        if (k % 6 + k / 6 % 5 + k / 30) % 2 == 0 {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
     /// [`block`] of `material` with every particle displaced along y by ±`amplitude` in a
     /// checkerboard (a mode the corrected gradient cannot see), at `velocity(k)`, evaluated
     /// with hourglass coefficient `hourglass`; every length times `scale`.
@@ -638,8 +648,7 @@ mod tests {
         let kernel = Kernel::<3>::new(KernelShape::CubicSpline);
         let reference = ReferenceConfiguration::new(&p, &domain, &kernel).unwrap();
         for k in 0..p.n_real() {
-            let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
-            p.position[k][1] += amplitude * scale * if parity == 0 { 1.0 } else { -1.0 };
+            p.position[k][1] += amplitude * scale * checkerboard_sign(k);
             p.velocity[k] = velocity(k);
         }
         let totals = evaluate_all(
@@ -907,8 +916,7 @@ mod tests {
         expected.dedup();
         assert_eq!(reference.with_partners(&which), expected);
         for k in 0..n {
-            let parity = (k % 6 + k / 6 % 5 + k / 30) % 2;
-            p.position[k][1] += if parity == 0 { 0.01 } else { -0.01 };
+            p.position[k][1] += 0.01 * checkerboard_sign(k);
             p.velocity[k] = Vector::<3>::new(0.1 * k as f64, -0.2, 0.05 * (k % 7) as f64);
         }
         let materials = [solid(1.0, 1.0)];

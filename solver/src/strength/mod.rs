@@ -667,6 +667,7 @@ mod tests {
         };
         assert!((y(fast) / 90e6 - (1.0 + 0.025 * 1e4f64.ln())).abs() < 1e-12);
         // the rate enters as ε̇/ε̇0: with ε̇0 = 1e-3 s⁻¹ the same rate is 1e7 reference rates
+        // (to round-off, as above: the factor is 1.40)
         let per_millisecond = Strength::johnson_cook(
             46e9,
             JohnsonCook {
