@@ -627,7 +627,7 @@ mod tests {
     /// ±1 in a checkerboard over [`block`]'s 6×5×4 lattice: a displacement mode the
     /// corrected gradient cannot see.
     fn checkerboard_sign(k: usize) -> f64 {
-        if (k % 6 + k / 6 % 5 + k / 30) % 2 == 0 {
+        if (k % 6 + k / 6 % 5 + k / 30).is_multiple_of(2) {
             1.0
         } else {
             -1.0
