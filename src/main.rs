@@ -5,6 +5,7 @@ use blastsph_verification::gate::{self, GateRequest};
 use blastsph_verification::impedance::{self, Drive};
 use blastsph_verification::materials::Library;
 use blastsph_verification::params::parse_assignment;
+use blastsph_verification::record::Outcome;
 use blastsph_verification::riemann::{self, GasState};
 use blastsph_verification::scene::{self, Checkpoints, Scene};
 use blastsph_verification::sedov::{geometry_named, SedovBlast};
@@ -34,6 +35,7 @@ enum LevelArg {
 #[derive(Subcommand)]
 enum Command {
     /// Run canonical problems against their exact answers (all of them if none is named).
+    /// Exit 0 PASS, 4 QUALIFIED, 1 FAIL, 2 bad input.
     Verify {
         /// Problems to run; `blastsph verify --list` shows them.
         problems: Vec<String>,
@@ -60,8 +62,9 @@ enum Command {
     },
     /// The tunnel study: the free-field gate for each charge, then a lined tunnel at each
     /// crown depth under each surface charge: gauges at crown and invert, peak stress against
-    /// depth, the safe depth per charge. Exit 3 when a gate fails (nothing else is run) unless
-    /// --accept-unvalidated, which stamps NOT VALIDATED on every output.
+    /// depth, the safe depth per charge. Exit 0 PASS, 4 QUALIFIED (a gate or a check at a
+    /// qualified limit), 1 a study check failed, 3 a gate failed (nothing else is run unless
+    /// --accept-unvalidated, which stamps NOT VALIDATED on every output), 2 bad input.
     Tunnel {
         /// Crown depths below the ground (m), comma-separated.
         #[arg(long, value_delimiter = ',', default_value = "10,15,20")]
@@ -199,10 +202,11 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// The free-field gate a study of this charge in this soil rests on: air blast at the
-    /// charge, ground shock at the study's depths, Hopkinson–Cranz, resolution convergence.
-    /// A result is reused while the request and the program are the same (keyed by a hash of
-    /// both). Exit 0 when it passes, 3 when it fails, 2 on bad input.
+    /// The free-field gate a study of this charge in this soil rests on: the study's free
+    /// field at its resolution and the next coarser one, against the ground-shock relations
+    /// at the study's depths, and converged between the two. A result is reused while the
+    /// request and the program are the same (keyed by a hash of both). Exit 0 PASS,
+    /// 4 QUALIFIED, 3 FAIL, 2 bad input.
     Gate {
         /// TNT mass (kg).
         #[arg(long, allow_negative_numbers = true)]
@@ -218,8 +222,7 @@ enum Command {
             allow_negative_numbers = true
         )]
         depths: Vec<f64>,
-        /// quick: two resolutions of the ground shock; full: three, and the problems' full
-        /// levels.
+        /// quick: 3 and 4 particles across the charge (the quick study's); full: 4 and 6.
         #[arg(long, value_enum, default_value = "quick")]
         level: LevelArg,
         /// Folder for gate-<hash>.json.
@@ -344,6 +347,23 @@ impl CheckpointArgs {
     }
 }
 
+/// Exit codes: 0 PASS; 4 QUALIFIED (every failed check at a qualified limit of the modelled
+/// physics); 1 FAIL (a problem's or the study's own check, or a scene run that stopped);
+/// 3 a gate FAIL (`gate`; `tunnel` then writes no tunnel result); 2 bad input or an error.
+const EXIT_FAILED: u8 = 1;
+const EXIT_BAD_INPUT: u8 = 2;
+const EXIT_GATE_FAILED: u8 = 3;
+const EXIT_QUALIFIED: u8 = 4;
+
+/// The exit code of `outcome`, with `fail` the code of a FAIL.
+fn exit_code(outcome: Outcome, fail: u8) -> ExitCode {
+    match outcome {
+        Outcome::Pass => ExitCode::SUCCESS,
+        Outcome::Qualified => ExitCode::from(EXIT_QUALIFIED),
+        Outcome::Fail => ExitCode::from(fail),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -360,7 +380,13 @@ fn main() -> ExitCode {
                 print_problem_list();
                 return ExitCode::SUCCESS;
             }
-            verify(problems, level, out, threads, set, vtk)
+            return match verify(problems, level, out, threads, set, vtk) {
+                Ok(outcome) => exit_code(outcome, EXIT_FAILED),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(EXIT_BAD_INPUT)
+                }
+            };
         }
         Command::Run {
             scene,
@@ -387,7 +413,7 @@ fn main() -> ExitCode {
                 Ok(policy) => policy,
                 Err(e) => {
                     eprintln!("error: {e}");
-                    return ExitCode::from(2);
+                    return ExitCode::from(EXIT_BAD_INPUT);
                 }
             };
             let out = restart.unwrap_or(out);
@@ -403,12 +429,11 @@ fn main() -> ExitCode {
                 level: level.into(),
             };
             return match tunnel_command(&request, accept_unvalidated, &out, &policy) {
-                Ok(Some(true)) => ExitCode::SUCCESS,
-                Ok(Some(false)) => ExitCode::from(1),
-                Ok(None) => ExitCode::from(3),
+                Ok(Some(outcome)) => exit_code(outcome, EXIT_FAILED),
+                Ok(None) => ExitCode::from(EXIT_GATE_FAILED),
                 Err(e) => {
                     eprintln!("error: {e}");
-                    ExitCode::from(2)
+                    ExitCode::from(EXIT_BAD_INPUT)
                 }
             };
         }
@@ -454,11 +479,10 @@ fn main() -> ExitCode {
                 level: level.into(),
             };
             return match gate_command(&request, &out, json) {
-                Ok(true) => ExitCode::SUCCESS,
-                Ok(false) => ExitCode::from(3),
+                Ok(outcome) => exit_code(outcome, EXIT_GATE_FAILED),
                 Err(e) => {
                     eprintln!("error: {e}");
-                    ExitCode::from(2)
+                    ExitCode::from(EXIT_BAD_INPUT)
                 }
             };
         }
@@ -483,10 +507,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(1),
+        Ok(false) => ExitCode::from(EXIT_FAILED),
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(2)
+            ExitCode::from(EXIT_BAD_INPUT)
         }
     }
 }
@@ -508,14 +532,14 @@ fn print_problem_list() {
     emit(&text);
 }
 
-/// Runs the tunnel study and writes its outputs; Some(every check passed), or None when a
-/// gate failed and the study stopped there.
+/// Runs the tunnel study and writes its outputs; Some(its outcome), or None when a gate failed
+/// and the study stopped there.
 fn tunnel_command(
     request: &tunnel::StudyRequest,
     accept_unvalidated: bool,
     out: &Path,
     checkpoints: &Checkpoints,
-) -> Result<Option<bool>, VerifyError> {
+) -> Result<Option<Outcome>, VerifyError> {
     tunnel::validate(request)?;
     report::ensure_writable(out)?;
     // a study.json left by an earlier run must not stand beside this run's outputs
@@ -552,15 +576,18 @@ fn tunnel_command(
     )?;
     bar.finish_and_clear();
     let study = match outcome {
-        tunnel::Outcome::GateFailed(gate) => {
+        tunnel::StudyOutcome::GateFailed(gate) => {
             for g in &gate {
                 println!(
                     "gate {} kg: {} (report {}/gate/gate-{}.json)",
                     g.charge_kg,
-                    if g.pass { "PASS" } else { "FAIL" },
+                    g.outcome.name(),
                     out.display(),
                     g.inputs_hash
                 );
+                for failure in &g.failures {
+                    println!("    FAIL {failure}");
+                }
             }
             println!(
                 "the free-field gate failed: no tunnel results (--accept-unvalidated runs them \
@@ -568,7 +595,7 @@ fn tunnel_command(
             );
             return Ok(None);
         }
-        tunnel::Outcome::Done(study) => study,
+        tunnel::StudyOutcome::Done(study) => study,
     };
     let figures = tunnel::figures(&study, out)?;
     for (name, figure) in &figures {
@@ -581,7 +608,8 @@ fn tunnel_command(
     let json = serde_json::to_vec_pretty(&study).expect("the study serialises");
     report::write_atomic(&study_path, &json)?;
     print!("{markdown}");
-    Ok(Some(study.checks.iter().all(|c| c.holds())))
+    println!("study: {}", study.outcome.name());
+    Ok(Some(study.outcome))
 }
 
 /// Starts the worker pool with `threads` threads (default: one per core).
@@ -695,7 +723,7 @@ fn verify(
     threads: Option<usize>,
     set: Vec<String>,
     vtk: bool,
-) -> Result<bool, VerifyError> {
+) -> Result<Outcome, VerifyError> {
     let level = Level::from(level);
     let names: Vec<String> = if names.is_empty() {
         problems::names().iter().map(|s| s.to_string()).collect()
@@ -738,7 +766,7 @@ fn verify(
         });
         bar.set_position((fraction * 1000.0) as u64);
     };
-    let mut all_pass = true;
+    let mut outcome = Outcome::Pass;
     let mut records = Vec::new();
     let mut figures = Vec::new();
     problems::run_many(level, &jobs, &progress, &mut |k, output| {
@@ -751,7 +779,7 @@ fn verify(
             report::write_snapshot(&out, &output)?;
         }
         bars.suspend(|| println!("{}", result_lines(&output.record)));
-        all_pass &= output.record.pass;
+        outcome = outcome.max(output.record.outcome);
         figures.push(output.figure.to_svg());
         records.push(output.record);
         Ok(())
@@ -772,7 +800,7 @@ fn verify(
         "outputs in {} (index.html shows them all; work-precision.svg, .csv)",
         out.display()
     );
-    Ok(all_pass)
+    Ok(outcome)
 }
 
 /// A problem's line of the table, then its failed checks and stopped runs.
@@ -799,24 +827,20 @@ fn result_lines(r: &blastsph_verification::record::Record) -> String {
         r.wall_s,
         errors,
         orders,
-        if r.pass { "PASS" } else { "FAIL" }
+        r.outcome.name()
     );
     for check in r.checks.iter().filter(|c| !c.pass) {
         let _ = write!(
             text,
             "\n    {} {}: {:.4e} (must be {} {:.4e})",
-            if check.known_limit.is_some() {
-                "FAIL at a known limit:"
-            } else {
-                "FAIL"
-            },
+            check.outcome().name(),
             check.name,
             check.value,
             check.relation,
             check.limit
         );
-        if let Some(evidence) = &check.known_limit {
-            let _ = write!(text, "\n        {evidence}");
+        if let Some(q) = &check.qualification {
+            let _ = write!(text, "\n        {}", q.describe());
         }
     }
     for run in &r.runs {
@@ -935,8 +959,8 @@ fn impedance_command(
     Ok(())
 }
 
-/// Runs (or reuses) the gate and prints its verdict; Ok(true) when it passed.
-fn gate_command(request: &GateRequest, out: &Path, json: bool) -> Result<bool, VerifyError> {
+/// Runs (or reuses) the gate and prints its verdict.
+fn gate_command(request: &GateRequest, out: &Path, json: bool) -> Result<Outcome, VerifyError> {
     gate::validate(request)?;
     report::ensure_writable(out)?;
     let bar = ProgressBar::new(1000);
@@ -951,9 +975,8 @@ fn gate_command(request: &GateRequest, out: &Path, json: bool) -> Result<bool, V
     bar.finish_and_clear();
     if json {
         println!("{}", serde_json::to_string_pretty(&report).expect("json"));
-        return Ok(report.pass);
+        return Ok(report.outcome);
     }
-    let verdict = |pass: bool| if pass { "PASS" } else { "FAIL" };
     println!(
         "gate for {} kg TNT in {}, depths {:?} m, level {}{}",
         request.charge_kg,
@@ -966,40 +989,29 @@ fn gate_command(request: &GateRequest, out: &Path, json: bool) -> Result<bool, V
             ""
         }
     );
-    let failed = |checks: &[gate::GateCheck]| {
-        for c in checks.iter().filter(|c| !c.pass) {
-            let known = c
-                .known_limit
-                .as_ref()
-                .map_or(String::new(), |e| format!(" [known limit: {e}]"));
-            println!(
-                "    FAIL {}: {:.4e} (must be {} {:.4e}){known}",
-                c.name, c.value, c.relation, c.limit
-            );
-        }
-    };
     for p in &report.problems {
         println!(
             "  {:24} {:>8.1} s  {}",
             p.problem,
             p.wall_s,
-            verdict(p.pass)
+            p.outcome.name()
         );
-        failed(&p.checks);
     }
-    for c in &report.checks {
-        println!("  {:24} {:>10.3e}  {}", c.name, c.value, verdict(c.pass));
+    for failure in report.failures() {
+        println!("    FAIL {failure}");
     }
-    failed(&report.checks);
+    for qualification in report.qualifications() {
+        println!("    QUALIFIED {qualification}");
+    }
     for missing in &report.not_covered {
         println!("  not covered: {missing}");
     }
     println!(
         "gate {}: {}",
-        verdict(report.pass),
+        report.outcome.name(),
         gate::report_path(out, &report.inputs_hash).display()
     );
-    Ok(report.pass)
+    Ok(report.outcome)
 }
 
 fn check_arrivals_command(file: &Path, soil: &str, json: bool) -> Result<bool, VerifyError> {
@@ -1227,7 +1239,7 @@ fn biaxial_strength(
         "source": "blastsph soil biaxial (DEM, 2D spheres with Willett liquid bridges)",
         "seed": seed,
         "grains": grains,
-        "checks_pass": record.pass,
+        "checks_pass": record.outcome == Outcome::Pass,
         "saturations": saturations,
     })
 }

@@ -4,7 +4,7 @@
 //! work–precision figure, then each problem's checks and figure. The tunnel study's
 //! `report.html` is laid out by the same [`document`] and [`checks_table`].
 
-use crate::record::{Check, Record};
+use crate::record::{Check, Outcome, Record};
 use std::fmt::Write;
 
 /// One problem as the page shows it: its record and its figure as SVG.
@@ -45,20 +45,29 @@ pub fn number(x: f64) -> String {
 }
 
 fn check_row(check: &Check) -> String {
-    let status = match (&check.known_limit, check.pass) {
-        (_, true) => "pass".to_string(),
-        (Some(evidence), false) => format!("FAIL at a known limit: {}", escape(evidence)),
-        (None, false) => "FAIL".to_string(),
+    let status = match (&check.qualification, check.outcome()) {
+        (_, Outcome::Pass) => "pass".to_string(),
+        (Some(q), outcome) => format!("{}: {}", outcome.name(), escape(&q.describe())),
+        (None, outcome) => outcome.name().to_string(),
     };
     format!(
         "<tr class=\"{}\"><td>{}</td><td>{}</td><td>{} {}</td><td>{}</td></tr>",
-        if check.pass { "pass" } else { "fail" },
+        outcome_class(check.outcome()),
         escape(&check.name),
         number(check.value),
-        escape(check.relation),
+        escape(&check.relation),
         number(check.limit),
         status
     )
+}
+
+/// The CSS class of a row or cell with `outcome`.
+pub fn outcome_class(outcome: Outcome) -> &'static str {
+    match outcome {
+        Outcome::Pass => "pass",
+        Outcome::Qualified => "qualified",
+        Outcome::Fail => "fail",
+    }
 }
 
 /// A self-contained page: `title`, the shared style, and `body` (HTML).
@@ -70,6 +79,7 @@ pub fn document(title: &str, body: &str) -> String {
          table{{border-collapse:collapse;margin:0.5em 0 1em}}\
          td,th{{border:1px solid #bbb;padding:2px 6px;text-align:left;font-size:13px}}\
          tr.fail td{{background:#fde2e2}} td.fail{{color:#a00;font-weight:bold}}\
+         tr.qualified td{{background:#fdf3d6}} td.qualified{{color:#850;font-weight:bold}}\
          td.pass{{color:#060}} svg{{max-width:100%;height:auto}}\
          p.stamp{{color:#a00;font-weight:bold;font-size:18px}}\
          </style></head><body>\n{body}\n</body></html>\n",
@@ -97,11 +107,20 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
         "<h1>blastsph verification</h1>\n<p>{}</p>\n",
         escape(heading)
     );
-    let passed = entries.iter().filter(|e| e.record.pass).count();
+    let count = |outcome: Outcome| {
+        entries
+            .iter()
+            .filter(|e| e.record.outcome == outcome)
+            .count()
+    };
     let _ = writeln!(
         html,
-        "<p>{passed} of {} problems pass every check.</p>",
-        entries.len()
+        "<p>{} of {} problems pass every check; {} qualified (failed checks at bounded limits \
+         of the modelled physics, each with its evidence); {} fail.</p>",
+        count(Outcome::Pass),
+        entries.len(),
+        count(Outcome::Qualified),
+        count(Outcome::Fail),
     );
     html.push_str(
         "<table><tr><th>problem</th><th>particles</th><th>steps</th><th>wall s</th>\
@@ -128,14 +147,13 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
             .map(|c| {
                 format!(
                     "{}{}: {} (must be {} {})",
-                    if c.known_limit.is_some() {
-                        "at a known limit: "
-                    } else {
-                        ""
+                    match c.outcome() {
+                        Outcome::Qualified => "qualified: ",
+                        _ => "",
                     },
                     escape(&c.name),
                     number(c.value),
-                    escape(c.relation),
+                    escape(&c.relation),
                     number(c.limit)
                 )
             })
@@ -152,8 +170,8 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
             run.map_or(0, |run| run.n_particles),
             run.map_or(0, |run| run.steps),
             number(r.wall_s),
-            if r.pass { "pass" } else { "fail" },
-            if r.pass { "PASS" } else { "FAIL" },
+            outcome_class(r.outcome),
+            r.outcome.name(),
             if failed.is_empty() {
                 String::new()
             } else {
@@ -169,7 +187,7 @@ pub fn page(heading: &str, entries: &[Entry], work_precision_svg: &str) -> Strin
         let _ = writeln!(
             html,
             "\n<h2 id=\"{name}\">{name}: {}</h2>",
-            if r.pass { "PASS" } else { "FAIL" },
+            r.outcome.name(),
             name = escape(&r.problem),
         );
         html.push_str(&checks_table(&r.checks));
@@ -189,7 +207,7 @@ pub fn inline(svg: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::Run;
+    use crate::record::{Qualification, Refinement, Run};
     use crate::Level;
 
     #[test]
@@ -237,10 +255,10 @@ mod tests {
         assert_eq!(html.matches("<svg").count(), 2);
     }
 
-    /// A check at a known limit fails visibly, with its evidence, and does not fail the record;
-    /// an ordinary failure beside it still does.
+    /// A qualified check is shown with its bound, evidence and effect, and moves the record to
+    /// QUALIFIED; an ordinary failure beside it still fails the record.
     #[test]
-    fn a_known_limit_is_shown_with_its_evidence_and_only_it_is_excused() {
+    fn a_qualified_check_is_shown_with_its_evidence_and_only_it_is_excused() {
         let settle = |checks: Vec<Check>| {
             let run = Run::new("n = 10", "", 10, 0.1);
             let mut record = Record::new(
@@ -254,9 +272,18 @@ mod tests {
             record.settle();
             record
         };
-        let limit = || Check::at_most("impulse", 0.3, 0.25).known_limit("no afterburning");
+        let limit = || {
+            Check::at_most("impulse", 0.3, 0.25).qualified(Qualification {
+                reason: "no afterburning".into(),
+                quantity: "impulse / relations".into(),
+                value: 0.7,
+                bound: [0.63, 1.0],
+                effect: "none".into(),
+                refinement: Refinement::between(0.72, 0.7),
+            })
+        };
         let excused = settle(vec![limit(), Check::at_least("fine", 2.0, 1.0)]);
-        assert!(excused.pass);
+        assert_eq!(excused.outcome, Outcome::Qualified);
         let html = page(
             "quick level",
             &[Entry {
@@ -266,10 +293,13 @@ mod tests {
             "<svg></svg>",
         );
         assert!(
-            html.contains("FAIL at a known limit: no afterburning"),
+            html.contains("QUALIFIED: impulse / relations = 0.700 (bound 0.630–1.000)"),
             "{html}"
         );
-        assert!(html.contains("at a known limit: impulse: 0.3000"), "{html}");
-        assert!(!settle(vec![limit(), Check::at_least("short", 0.5, 1.0)]).pass);
+        assert!(html.contains("no afterburning"), "{html}");
+        assert!(html.contains("qualified: impulse: 0.3000"), "{html}");
+        assert!(html.contains("0 of 1 problems pass every check; 1 qualified"));
+        let beside = settle(vec![limit(), Check::at_least("short", 0.5, 1.0)]);
+        assert_eq!(beside.outcome, Outcome::Fail);
     }
 }

@@ -3,41 +3,200 @@
 
 use crate::svg::Figure;
 use crate::Level;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// What a check, a record or a gate comes to. Ordered from best to worst, so that the
+/// outcome of many is the largest of theirs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "UPPERCASE")]
+pub enum Outcome {
+    /// Every check within its limit.
+    Pass,
+    /// Every check within its limit or at a qualified limit of the modelled physics: outside
+    /// the limit, inside the qualification's bound, with its evidence met.
+    Qualified,
+    /// A check outside its limit and not qualified, or qualified outside its bound or without
+    /// its evidence.
+    Fail,
+}
+
+impl Outcome {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Pass => "PASS",
+            Self::Qualified => "QUALIFIED",
+            Self::Fail => "FAIL",
+        }
+    }
+
+    /// The worst of `outcomes` (PASS where there are none).
+    pub fn worst(outcomes: impl IntoIterator<Item = Outcome>) -> Outcome {
+        outcomes.into_iter().max().unwrap_or(Outcome::Pass)
+    }
+}
+
+/// The largest change under refinement, between a quantity's values at the two finest
+/// resolutions, that lets a qualification call a gap the model's rather than the numerics':
+/// a gap that still moves by more is not yet known to be either.
+pub const REFINEMENT_TOLERANCE: f64 = 0.10;
+
+/// The machine-checked evidence that a gap is the model's: the qualified quantity at the two
+/// finest resolutions changes by at most `tolerance` (relative).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Refinement {
+    /// The quantity at the second finest and at the finest resolution (NaN where the problem
+    /// ran one resolution only: then there is no evidence).
+    #[serde(deserialize_with = "number_or_nan")]
+    pub coarse: f64,
+    #[serde(deserialize_with = "number_or_nan")]
+    pub fine: f64,
+    /// |fine / coarse − 1|.
+    #[serde(deserialize_with = "number_or_nan")]
+    pub change: f64,
+    pub tolerance: f64,
+}
+
+impl Refinement {
+    /// The evidence of the values at the two finest resolutions, against
+    /// [`REFINEMENT_TOLERANCE`].
+    pub fn between(coarse: f64, fine: f64) -> Self {
+        Self {
+            coarse,
+            fine,
+            change: (fine / coarse - 1.0).abs(),
+            tolerance: REFINEMENT_TOLERANCE,
+        }
+    }
+
+    /// The evidence of a problem's resolutions, ordered coarse to fine: the last two, or none
+    /// where there is one.
+    pub fn of_resolutions(values: &[f64]) -> Self {
+        match values {
+            [.., coarse, fine] => Self::between(*coarse, *fine),
+            [fine] => Self::between(f64::NAN, *fine),
+            [] => Self::between(f64::NAN, f64::NAN),
+        }
+    }
+
+    /// The change is known and within the tolerance (a NaN is not).
+    pub fn holds(&self) -> bool {
+        self.change <= self.tolerance
+    }
+}
+
+/// A limit of the modelled physics that a failed check meets: why the gap is the model's, the
+/// bound within which that explanation holds, its effect on the study's answer, and the
+/// evidence that refinement does not close it. A check so qualified moves its record to
+/// QUALIFIED, not PASS, and only while the measured value lies inside the bound and the
+/// evidence holds; otherwise it fails like any other.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Qualification {
+    /// What the model lacks or does otherwise, and the physics that explains the gap.
+    pub reason: String,
+    /// What the bound is on ("arrival / relations") and its measured value.
+    pub quantity: String,
+    #[serde(deserialize_with = "number_or_nan")]
+    pub value: f64,
+    /// The range [low, high] of `value` that the reason explains.
+    pub bound: [f64; 2],
+    /// The direction and size of the gap's effect on the safe depth.
+    pub effect: String,
+    pub refinement: Refinement,
+}
+
+impl Qualification {
+    /// The measured value lies inside the bound (a NaN does not).
+    pub fn within_bound(&self) -> bool {
+        self.bound[0] <= self.value && self.value <= self.bound[1]
+    }
+
+    /// Inside the bound with its evidence met.
+    pub fn holds(&self) -> bool {
+        self.within_bound() && self.refinement.holds()
+    }
+
+    /// Why the qualification does not hold, where it does not.
+    pub fn failure(&self) -> Option<&'static str> {
+        if !self.within_bound() {
+            Some("outside the qualification's bound")
+        } else if self.refinement.coarse.is_nan() {
+            Some("no evidence: one resolution only")
+        } else if !self.refinement.holds() {
+            Some("not settled: it changes under refinement by more than the tolerance")
+        } else {
+            None
+        }
+    }
+
+    /// The qualification in one paragraph: the quantity against its bound, the evidence, the
+    /// effect and the reason, and why it does not hold where it does not.
+    pub fn describe(&self) -> String {
+        let r = &self.refinement;
+        let verdict = self
+            .failure()
+            .map_or(String::new(), |why| format!(" NOT QUALIFIED: {why}."));
+        format!(
+            "{} = {:.3} (bound {:.3}–{:.3}); refined {:.3} → {:.3}, change {:.1} % \
+             (tolerance {:.0} %); effect: {}. {}.{verdict}",
+            self.quantity,
+            self.value,
+            self.bound[0],
+            self.bound[1],
+            r.coarse,
+            r.fine,
+            100.0 * r.change,
+            100.0 * r.tolerance,
+            self.effect,
+            self.reason,
+        )
+    }
+}
+
+/// A number as JSON writes it, `null` for a NaN.
+fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
 /// One check: a value against a limit.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Check {
     pub name: String,
+    #[serde(deserialize_with = "number_or_nan")]
     pub value: f64,
+    #[serde(deserialize_with = "number_or_nan")]
     pub limit: f64,
     /// "<=" or ">=": how value must relate to limit.
-    pub relation: &'static str,
+    pub relation: String,
     pub pass: bool,
-    /// A limit of the physics the problem models, with the evidence for it: the check is
-    /// evaluated and shown like any other, but its failure does not fail the record (see
-    /// [`Check::known_limit`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub known_limit: Option<String>,
+    /// A limit of the physics the problem models (see [`Qualification`]): shown like any
+    /// other check; its failure qualifies the record instead of failing it while the
+    /// qualification holds.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub qualification: Option<Qualification>,
 }
 
 impl Check {
-    /// Marks the check as measuring a known limit of the modelled physics, with `evidence`:
-    /// what was measured that shows the gap is the model's and not the numerics' (for
-    /// example, an error that resolution does not change while the others converge). Reports
-    /// list it with the evidence wherever they list failed checks, so it is never hidden;
-    /// it just does not fail the record.
-    pub fn known_limit(self, evidence: impl Into<String>) -> Self {
+    /// Qualifies the check with a limit of the modelled physics (see [`Qualification`]).
+    pub fn qualified(self, qualification: Qualification) -> Self {
         Self {
-            known_limit: Some(evidence.into()),
+            qualification: Some(qualification),
             ..self
         }
     }
 
-    /// Passes, or fails at a known limit of the physics.
+    /// PASS within the limit; QUALIFIED outside it where a qualification holds; else FAIL.
+    pub fn outcome(&self) -> Outcome {
+        match (&self.qualification, self.pass) {
+            (_, true) => Outcome::Pass,
+            (Some(q), false) if q.holds() => Outcome::Qualified,
+            _ => Outcome::Fail,
+        }
+    }
+
+    /// Passes, or fails at a qualified limit of the physics.
     pub fn holds(&self) -> bool {
-        self.pass || self.known_limit.is_some()
+        self.outcome() != Outcome::Fail
     }
 
     /// Passes when value ≤ limit (a NaN never passes).
@@ -46,9 +205,9 @@ impl Check {
             name: name.into(),
             value,
             limit,
-            relation: "<=",
+            relation: "<=".into(),
             pass: value <= limit,
-            known_limit: None,
+            qualification: None,
         }
     }
 
@@ -58,9 +217,9 @@ impl Check {
             name: name.into(),
             value,
             limit,
-            relation: ">=",
+            relation: ">=".into(),
             pass: value >= limit,
-            known_limit: None,
+            qualification: None,
         }
     }
 }
@@ -104,7 +263,8 @@ pub struct Record {
     pub runs: Vec<Run>,
     pub order: BTreeMap<String, f64>,
     pub checks: Vec<Check>,
-    pub pass: bool,
+    /// The worst of the checks' outcomes (FAIL without checks).
+    pub outcome: Outcome,
     pub wall_s: f64,
     /// The run a one-line summary shows (the finest resolution, or the thesis' case).
     pub headline_run: usize,
@@ -333,7 +493,7 @@ impl Run {
 
 impl Record {
     /// The record of one problem's runs; `problems::run` fills in the parameters, the wall time
-    /// and `pass`.
+    /// and the outcome.
     pub fn new(
         problem: &str,
         level: Level,
@@ -350,16 +510,24 @@ impl Record {
             runs,
             order,
             checks,
-            pass: false,
+            outcome: Outcome::Fail,
             wall_s: 0.0,
             headline_run,
         }
     }
 
-    /// Sets `pass` from the checks (a record without checks does not pass; a check at a known
-    /// limit of the physics does not fail it).
+    /// Sets the outcome from the checks (a record without checks fails).
     pub fn settle(&mut self) {
-        self.pass = !self.checks.is_empty() && self.checks.iter().all(Check::holds);
+        self.outcome = if self.checks.is_empty() {
+            Outcome::Fail
+        } else {
+            Outcome::worst(self.checks.iter().map(Check::outcome))
+        };
+    }
+
+    /// Not FAIL: every check passed or is qualified.
+    pub fn holds(&self) -> bool {
+        self.outcome != Outcome::Fail
     }
 
     pub fn headline(&self) -> Option<&Run> {
@@ -449,5 +617,102 @@ mod tests {
         run.errors.remove("l1_rho");
         assert_eq!(run.headline_error(), None);
         assert_eq!(names(&record(run)), ["arrival", "impulse", "l1_e"]);
+    }
+
+    fn qualified(value: f64, refinement: Refinement) -> Check {
+        Check::at_most("arrival_error", 0.5, 0.3).qualified(Qualification {
+            reason: "a stiffer sand".into(),
+            quantity: "arrival / relations".into(),
+            value,
+            bound: [0.3, 1.0],
+            effect: "none".into(),
+            refinement,
+        })
+    }
+
+    /// A failed check is QUALIFIED only inside its bound and with its evidence: the quantity
+    /// at the two finest resolutions within the tolerance. Outside the bound, at one
+    /// resolution, or still moving under refinement, it is a FAIL; a passing check is a PASS
+    /// whatever it carries.
+    #[test]
+    fn a_qualification_holds_only_inside_its_bound_with_its_evidence() {
+        let settled = Refinement::between(0.52, 0.5);
+        assert!((settled.change - 0.02 / 0.52).abs() < 1e-15);
+        assert_eq!(
+            qualified(0.5, settled.clone()).outcome(),
+            Outcome::Qualified
+        );
+        // at the bound's edges, and just outside them
+        assert_eq!(
+            qualified(0.3, settled.clone()).outcome(),
+            Outcome::Qualified
+        );
+        assert_eq!(
+            qualified(1.0, settled.clone()).outcome(),
+            Outcome::Qualified
+        );
+        assert_eq!(qualified(0.299, settled.clone()).outcome(), Outcome::Fail);
+        assert_eq!(qualified(1.001, settled.clone()).outcome(), Outcome::Fail);
+        assert_eq!(
+            qualified(f64::NAN, settled.clone()).outcome(),
+            Outcome::Fail
+        );
+        // the evidence: one resolution, or a change of more than the tolerance
+        let single = Refinement::of_resolutions(&[0.5]);
+        assert_eq!(qualified(0.5, single.clone()).outcome(), Outcome::Fail);
+        assert_eq!(
+            qualified(0.5, single).qualification.unwrap().failure(),
+            Some("no evidence: one resolution only")
+        );
+        let moving = Refinement::of_resolutions(&[0.3, 0.4, 0.5]);
+        assert!((moving.change - 0.25).abs() < 1e-15, "{moving:?}");
+        assert_eq!(qualified(0.5, moving).outcome(), Outcome::Fail);
+        let at_tolerance = Refinement::between(1.0, 1.0 + REFINEMENT_TOLERANCE);
+        assert!(at_tolerance.holds() == (at_tolerance.change <= REFINEMENT_TOLERANCE));
+        // a check within its limit passes
+        let mut passing = qualified(0.5, Refinement::of_resolutions(&[]));
+        passing.pass = true;
+        assert_eq!(passing.outcome(), Outcome::Pass);
+        assert_eq!(Check::at_most("plain", 2.0, 1.0).outcome(), Outcome::Fail);
+    }
+
+    /// A record is the worst of its checks; without checks it fails.
+    #[test]
+    fn a_record_is_the_worst_of_its_checks() {
+        let settle = |checks: Vec<Check>| {
+            let mut record = Record::new("demo", Level::Quick, vec![], BTreeMap::new(), checks, 0);
+            record.settle();
+            record.outcome
+        };
+        let pass = || Check::at_most("fine", 0.0, 1.0);
+        let settled = || qualified(0.5, Refinement::between(0.5, 0.5));
+        assert_eq!(settle(vec![]), Outcome::Fail);
+        assert_eq!(settle(vec![pass()]), Outcome::Pass);
+        assert_eq!(settle(vec![pass(), settled()]), Outcome::Qualified);
+        assert_eq!(
+            settle(vec![settled(), Check::at_most("bad", 2.0, 1.0)]),
+            Outcome::Fail
+        );
+        assert_eq!(Outcome::worst([]), Outcome::Pass);
+    }
+
+    /// A check comes back from JSON as it went, a NaN value (null) included.
+    #[test]
+    fn checks_round_trip_through_json() {
+        let check = qualified(0.5, Refinement::of_resolutions(&[0.5]));
+        let text = serde_json::to_string(&check).unwrap();
+        let back: Check = serde_json::from_str(&text).unwrap();
+        assert_eq!(back.name, check.name);
+        assert!(back
+            .qualification
+            .as_ref()
+            .unwrap()
+            .refinement
+            .coarse
+            .is_nan());
+        assert_eq!(back.outcome(), Outcome::Fail);
+        let nan = Check::at_most("nan", f64::NAN, 1.0);
+        let back: Check = serde_json::from_str(&serde_json::to_string(&nan).unwrap()).unwrap();
+        assert!(back.value.is_nan() && !back.pass);
     }
 }

@@ -22,7 +22,7 @@
 
 use crate::gate::{run_gate, GateRequest};
 use crate::problems::ground_shock::soil_model;
-use crate::record::Check;
+use crate::record::{Check, Outcome};
 use crate::scene::{
     current_index, particles, run_with, Checkpoints, Observer, RunSummary, Scene, StepChoice,
 };
@@ -976,16 +976,23 @@ impl StudyRequest {
 #[derive(Clone, Debug, Serialize)]
 pub struct GateVerdict {
     pub charge_kg: f64,
-    pub pass: bool,
+    pub outcome: Outcome,
     /// The gate's report, `gate-<hash>.json` in the study's `gate/` folder.
     pub inputs_hash: String,
+    /// Each qualified check, with its bound, evidence and effect (see
+    /// [`crate::gate::GateReport::qualifications`]).
+    pub qualifications: Vec<String>,
+    /// Each failed check (see [`crate::gate::GateReport::failures`]).
+    pub failures: Vec<String>,
 }
 
 /// `study.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Study {
-    /// Every charge's gate passed.
+    /// No charge's gate failed: every one passed or is qualified.
     pub validated: bool,
+    /// The worst of the gates' outcomes and of the study's own checks.
+    pub outcome: Outcome,
     pub gate: Vec<GateVerdict>,
     pub level: &'static str,
     /// The model, in words (see the module's comment).
@@ -1005,7 +1012,7 @@ pub struct Study {
 
 /// What a study came to: stopped by a failed gate (nothing run beyond it), or run.
 #[derive(Clone, Debug)]
-pub enum Outcome {
+pub enum StudyOutcome {
     GateFailed(Vec<GateVerdict>),
     Done(Box<Study>),
 }
@@ -1113,7 +1120,7 @@ pub fn run_study(
     out: &Path,
     progress: &(dyn Fn(&str, f64) + Sync),
     checkpoints: &Checkpoints,
-) -> Result<Outcome, VerifyError> {
+) -> Result<StudyOutcome, VerifyError> {
     validate(request)?;
     let request = &request.in_order();
     let started = std::time::Instant::now();
@@ -1131,14 +1138,16 @@ pub fn run_study(
             let (report, _) = run_gate(&gate_request, &out.join("gate"), progress)?;
             Ok(GateVerdict {
                 charge_kg,
-                pass: report.pass,
+                outcome: report.outcome,
+                qualifications: report.qualifications(),
+                failures: report.failures(),
                 inputs_hash: report.inputs_hash,
             })
         })
         .collect::<Result<Vec<_>, VerifyError>>()?;
-    let validated = gate.iter().all(|g| g.pass);
+    let validated = gate.iter().all(|g| g.outcome != Outcome::Fail);
     if !validated && !accept_unvalidated {
-        return Ok(Outcome::GateFailed(gate));
+        return Ok(StudyOutcome::GateFailed(gate));
     }
 
     let soil = Soil {
@@ -1240,8 +1249,14 @@ pub fn run_study(
         Vec::new()
     };
     let (safe_depth_m, scaled_safe_depth_m_kg13) = safe_depths(request, &cases);
-    Ok(Outcome::Done(Box::new(Study {
+    let outcome = Outcome::worst(
+        gate.iter()
+            .map(|g| g.outcome)
+            .chain(checks.iter().map(Check::outcome)),
+    );
+    Ok(StudyOutcome::Done(Box::new(Study {
         validated,
+        outcome,
         gate,
         level: request.level.name(),
         model: MODEL,
@@ -1449,7 +1464,9 @@ fn run_section(
 
 /// Limits of the study's checks. Arrival at the crown within 30 % of the free field's at that
 /// depth (the lining is thin next to the pulse's length, so it should not delay the front
-/// much); energy of a section within 1 % of what its band brought in; the reduction without
+/// much), and at most 30 % after the sand's P wave would bring it (the arrival is read where
+/// the front reaches 5 % of its peak, part of the way up a front that rises over up to a
+/// third of its travel time at the free field's far spacing); energy of a section within 1 % of what its band brought in; the reduction without
 /// the tunnel within 30 % of the free field (the plane-strain section spreads the wave less
 /// than the 3D free field over the soil between band and crown); two resolutions within 15 %
 /// on the peak crown stress and on the peak velocities that load it.
@@ -1485,23 +1502,34 @@ fn study_checks(
 ) -> Result<Vec<Check>, VerifyError> {
     let mut checks = Vec::new();
     for g in gate {
-        let pass = if g.pass { 1.0 } else { 0.0 };
         checks.push(Check::at_least(
             format!("gate_{}kg", g.charge_kg),
-            pass,
+            f64::from(g.outcome != Outcome::Fail),
             1.0,
         ));
     }
     let library = crate::materials::Library::standard();
-    let c_max = crate::scaled::arrivals::fastest_wave_speed(&library, soil_model(&request.soil)?)?;
+    let sand = soil_model(&request.soil)?;
+    let fastest_shock = crate::scaled::arrivals::fastest_shock_speed(&library, sand)?;
+    let c_p = p_wave_speed(&Soil {
+        library: sand.to_string(),
+        ..Soil::default()
+    })?;
     for c in cases {
         let name = |what: &str| format!("{what}_{}m_{}kg", c.depth_m, c.charge_kg);
         let crown = &c.gauges["crown"];
         let free = &c.gauges["free_field_at_crown"];
+        // the front reaches the crown no sooner than the sand's fastest shock would carry it,
+        // and no later than its small-strain P wave, read at 5 % of the peak
         checks.push(Check::at_least(
-            name("crown_arrival_possible_s"),
+            name("crown_arrival_after_fastest_shock_s"),
             crown.arrival_s,
-            c.depth_m / c_max,
+            c.depth_m / fastest_shock,
+        ));
+        checks.push(Check::at_most(
+            name("crown_arrival_by_p_wave_s"),
+            crown.arrival_s,
+            (1.0 + ARRIVAL_LIMIT) * c.depth_m / c_p,
         ));
         checks.push(Check::at_most(
             name("crown_arrival_vs_free_field"),
@@ -1757,6 +1785,27 @@ pub fn figures(study: &Study, out: &Path) -> Result<Vec<(String, Figure)>, Verif
     Ok(figures)
 }
 
+/// The study's standing in one sentence: "validated", "validated with qualifications" (each
+/// listed after it, per charge) or "NOT VALIDATED".
+fn gate_statement(gate: &[GateVerdict]) -> String {
+    let charges = |outcome: Outcome| -> Vec<String> {
+        gate.iter()
+            .filter(|g| g.outcome == outcome)
+            .map(|g| format!("{} kg", g.charge_kg))
+            .collect()
+    };
+    match Outcome::worst(gate.iter().map(|g| g.outcome)) {
+        Outcome::Pass => "Free field: validated (every gate passed).".into(),
+        Outcome::Qualified => format!(
+            "Free field: validated with qualifications ({}): each qualified check below is a \
+             bounded limit of the modelled physics, settled under refinement, with its effect \
+             on the safe depth.",
+            charges(Outcome::Qualified).join(", ")
+        ),
+        Outcome::Fail => format!("{NOT_VALIDATED} ({}).", charges(Outcome::Fail).join(", ")),
+    }
+}
+
 /// What the study's reports say, as text: `report.md` and `report.html` render the same.
 struct ReportContent {
     /// The gate, the model and every assumption, a sentence each.
@@ -1786,21 +1835,23 @@ which no lining particle yielded or failed; the true one lies between it and the
 simulated depth.";
 
 fn report_content(study: &Study) -> ReportContent {
-    let gate: Vec<String> = study
-        .gate
-        .iter()
-        .map(|g| {
-            format!(
-                "{} kg: {} (gate/gate-{}.json)",
-                g.charge_kg,
-                if g.pass { "PASS" } else { "FAIL" },
-                g.inputs_hash
-            )
-        })
-        .collect();
     let t = study.request.tunnel;
-    let mut facts = vec![
-        format!("Gate: {}", gate.join("; ")),
+    let mut facts = vec![gate_statement(&study.gate)];
+    facts.extend(study.gate.iter().map(|g| {
+        let mut line = format!(
+            "Gate {} kg: {} (gate/gate-{}.json)",
+            g.charge_kg,
+            g.outcome.name(),
+            g.inputs_hash
+        );
+        for (what, items) in [("qualified", &g.qualifications), ("failed", &g.failures)] {
+            for item in items.iter() {
+                line.push_str(&format!("; {what}: {item}"));
+            }
+        }
+        line
+    }));
+    facts.extend([
         format!("Level: {}; model: {}.", study.level, study.model),
         format!(
             "Tunnel: {} m internal diameter, {} m concrete lining (C35/45: von Mises, yield \
@@ -1827,7 +1878,7 @@ fn report_content(study: &Study) -> ReportContent {
          18 % between resolutions at 10 m, so it is not yet part of the study). Stresses and pressures are totals (the geostatic state included)."
             .to_string(),
         MEASURED_AGAINST_FULL.to_string(),
-    ];
+    ]);
     for f in &study.full {
         let (crown, invert) = (&f.gauges["crown"], &f.gauges["invert"]);
         let ratios = |map: &BTreeMap<String, f64>| {
@@ -1929,7 +1980,7 @@ pub fn report_markdown(study: &Study) -> String {
         let _ = writeln!(
             s,
             "- {} {}: {:.4e} (must be {} {:.4e})",
-            if c.pass { "PASS" } else { "FAIL" },
+            c.outcome().name(),
             c.name,
             c.value,
             c.relation,
@@ -2082,18 +2133,30 @@ mod tests {
     }
 
     /// `ground-shock-surface`, which the gate runs, checks the free field this study runs: at
-    /// the quick resolution its default far spacing and particles across the charge are the
-    /// study's.
+    /// the quick resolution its default far spacing is the study's, and its finest
+    /// resolution, by default and as the gate runs it, crosses the charge with the study's
+    /// particles.
     #[test]
     fn the_gated_free_field_is_the_studys() {
         let info = crate::problems::find("ground-shock-surface").unwrap();
         let default = |key: &str| {
-            let spec = info.params.iter().find(|p| p.key == key).unwrap();
-            spec.quick.parse::<f64>().unwrap()
+            info.params
+                .iter()
+                .find(|p| p.key == key)
+                .unwrap()
+                .quick
+                .clone()
         };
         let study = free_field_far_spacing(Tunnel::default(), QUICK);
-        assert!((default("far_spacing") - study).abs() < 1e-12, "{study}");
-        assert_eq!(default("n"), QUICK.across_charge as f64);
+        let far: f64 = default("far_spacing").parse().unwrap();
+        assert!((far - study).abs() < 1e-12, "{study}");
+        let finest =
+            |list: &str| -> usize { list.split(',').map(|n| n.parse().unwrap()).max().unwrap() };
+        assert_eq!(finest(&default("n")), QUICK.across_charge);
+        assert_eq!(
+            finest(crate::gate::resolutions(Level::Quick)),
+            QUICK.across_charge
+        );
     }
 
     /// A small tunnel (2 m inside, 0.3 m lining) at the coarsest resolution that runs: the
@@ -2273,6 +2336,57 @@ mod tests {
         }
     }
 
+    /// A study whose gate failed runs nothing beyond it and writes no tunnel result: no free
+    /// field, no case; the verdict it returns names the charge, its outcome and the failed
+    /// check. (The gate's report is put where the study looks for it, under the hash of its
+    /// request and this program, so that the study reuses it instead of running it.)
+    #[test]
+    fn a_failed_gate_stops_the_study_before_any_case() {
+        let out = std::env::temp_dir().join(format!("blastsph-failed-gate-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let gate_request = GateRequest {
+            charge_kg: 500.0,
+            soil: "dry-sand-backfill".into(),
+            depths_m: vec![10.0],
+            level: Level::Quick,
+        };
+        let hash = crate::gate::inputs_hash(&gate_request).unwrap();
+        let failed = crate::gate::GateReport {
+            outcome: Outcome::Fail,
+            inputs_hash: hash.clone(),
+            request: gate_request,
+            problems: vec![crate::gate::GateProblem {
+                problem: "ground-shock-surface".into(),
+                overrides: Vec::new(),
+                outcome: Outcome::Fail,
+                wall_s: 1.0,
+                checks: vec![Check::at_most(
+                    "peak_velocity_change_two_finest_axis-10m",
+                    0.2,
+                    0.1,
+                )],
+            }],
+            not_covered: Vec::new(),
+        };
+        let path = crate::gate::report_path(&out.join("gate"), &hash);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, serde_json::to_string(&failed).unwrap()).unwrap();
+        let outcome =
+            run_study(&request(), false, &out, &|_, _| {}, &Checkpoints::default()).unwrap();
+        let StudyOutcome::GateFailed(gate) = outcome else {
+            panic!("the study ran past a failed gate");
+        };
+        assert_eq!(gate.len(), 1);
+        assert_eq!(gate[0].outcome, Outcome::Fail);
+        assert!(gate[0].failures[0].starts_with("peak_velocity_change_two_finest_axis-10m"));
+        let written: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(written, ["gate"], "nothing beside the gate's report");
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+
     /// Depths and charges run ascending and once each, however they were asked for, so that
     /// the monotony checks compare each case with the next larger charge and depth.
     #[test]
@@ -2304,10 +2418,13 @@ mod tests {
             .collect();
         let study = Study {
             validated: false,
+            outcome: Outcome::Fail,
             gate: vec![GateVerdict {
                 charge_kg: 500.0,
-                pass: false,
+                outcome: Outcome::Fail,
                 inputs_hash: "abc".into(),
+                qualifications: Vec::new(),
+                failures: vec!["arrival_error_axis-10m_n_4: 4.7e-1 (must be <= 3e-1)".into()],
             }],
             level: "quick",
             model: MODEL,
@@ -2342,6 +2459,10 @@ mod tests {
             &[("a".into(), figure("a")), ("b".into(), figure("b"))],
         );
         assert!(html.contains(NOT_VALIDATED));
+        assert!(
+            html.contains("failed: arrival_error_axis-10m_n_4"),
+            "{html}"
+        );
         assert!(
             html.contains("<td>1.700</td>"),
             "the crown's peak von Mises in MPa"

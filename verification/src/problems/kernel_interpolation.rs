@@ -199,7 +199,7 @@ pub fn run(params: &Params) -> Result<ProblemOutput, VerifyError> {
             runs,
             order: BTreeMap::new(),
             checks,
-            pass: false,
+            outcome: crate::record::Outcome::Fail,
             wall_s: 0.0,
             // h = 1.55, the case the thesis discusses
             headline_run: SMOOTHING_LENGTHS

@@ -68,6 +68,34 @@ pub fn fastest_wave_speed(library: &Library, name: &str) -> Result<f64, VerifyEr
         })
 }
 
+/// The fastest shock the loading path of compaction material `name` carries: the largest
+/// Hugoniot shock speed U_s = √(p / (ρ0 (1 − ρ0/ρ))) over its loading table (mass and
+/// momentum across a shock into material at rest at ρ0). No front in the material at rest
+/// runs faster while the stress stays within the table.
+pub fn fastest_shock_speed(library: &Library, name: &str) -> Result<f64, VerifyError> {
+    let entry = library.entry(name)?;
+    let not_compaction = || {
+        VerifyError::bad_value(
+            "soil",
+            name,
+            "a compaction material of the library (with a loading table), e.g. dry-sand",
+        )
+    };
+    let rho0 = entry
+        .parameters
+        .get("rho0")
+        .ok_or_else(not_compaction)?
+        .value;
+    let loading = entry.tables.get("loading").ok_or_else(not_compaction)?;
+    Ok(loading
+        .density
+        .iter()
+        .zip(&loading.value)
+        .filter(|(&rho, _)| rho > rho0)
+        .map(|(&rho, &p)| (p / (rho0 * (1.0 - rho0 / rho))).sqrt())
+        .fold(0.0, f64::max))
+}
+
 /// Reads a table with the columns `depth_m,charge_kg,gauge,arrival_ms` (lines starting with
 /// `#` are comments); `origin` names it in errors.
 pub fn read_arrivals(text: &str, origin: &str) -> Result<Vec<ReportedArrival>, VerifyError> {
