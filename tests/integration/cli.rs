@@ -52,6 +52,7 @@ fn verify_writes_json_csv_and_svg_with_the_promised_fields() {
     assert!(out.status.success(), "{}", stderr(&out));
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("kernel-interpolation") && stdout.contains("PASS"));
+    // the record carries its outcome, PASS, QUALIFIED or FAIL
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("kernel-interpolation.json")).unwrap())
             .unwrap();
@@ -61,12 +62,13 @@ fn verify_writes_json_csv_and_svg_with_the_promised_fields() {
         "runs",
         "order",
         "checks",
-        "pass",
+        "outcome",
         "parameters",
         "wall_s",
     ] {
         assert!(json.get(field).is_some(), "missing {field}");
     }
+    assert_eq!(json["outcome"], "PASS");
     let run = &json["runs"][0];
     for field in ["n_particles", "steps", "wall_s", "errors"] {
         assert!(run.get(field).is_some(), "run misses {field}");
@@ -721,7 +723,7 @@ fn gate_refuses_bad_input_by_name() {
                 "--depths",
                 "0.5",
             ],
-            "gauge range",
+            "depths (m) = 0.5",
         ),
     ] {
         let out = blastsph(&[&["gate", "--out", "/nonexistent/never"], args.as_slice()].concat());
