@@ -1,5 +1,5 @@
 //! Gauges: the overpressure and particle velocity at fixed places through a run, and what a
-//! blast engineer reads off them: arrival, peak and positive impulse.
+//! blast engineer reads off them: arrival, rise time, peak and positive impulse.
 
 use serde::Serialize;
 
@@ -18,7 +18,26 @@ pub struct Gauge {
     pub impulse_pa_s: f64,
     /// Whether the positive phase ended within the record (else the impulse is a lower bound).
     pub positive_phase_ended: bool,
+    /// The front's rise: from the first time the overpressure reached 10 % of its peak to the
+    /// first time it reached 90 % (NaN if it never rose). A structure's response to a pulse
+    /// depends on how fast it loads, not only on its peak.
+    #[serde(default = "not_a_number", deserialize_with = "number_or_nan")]
+    pub rise_time_s: f64,
 }
+
+fn not_a_number() -> f64 {
+    f64::NAN
+}
+
+/// A number as JSON writes it, `null` for a NaN.
+fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// The fractions of the peak between whose first crossings the rise time runs.
+pub const RISE_FROM: f64 = 0.1;
+pub const RISE_TO: f64 = 0.9;
 
 /// The fraction of the peak whose first crossing counts as the arrival.
 pub const ARRIVAL_FRACTION: f64 = 0.05;
@@ -60,6 +79,16 @@ impl GaugeTrace {
         }
     }
 
+    /// The first time the overpressure reaches `level` (interpolated between samples; NaN if
+    /// it never does).
+    fn first_crossing(&self, level: f64) -> f64 {
+        match self.overpressure.iter().position(|&x| x >= level) {
+            None => f64::NAN,
+            Some(0) => self.time[0],
+            Some(k) => self.crossing(k - 1, level),
+        }
+    }
+
     /// The overpressure against time as a line labelled `label`, in ms and kPa.
     pub fn overpressure_series(&self, label: impl Into<String>) -> crate::svg::Series {
         crate::svg::Series {
@@ -86,6 +115,7 @@ impl GaugeTrace {
             peak_velocity_m_s: peak_velocity,
             impulse_pa_s: 0.0,
             positive_phase_ended: false,
+            rise_time_s: f64::NAN,
         };
         if p.len() < 2 || peak.is_nan() || peak <= 0.0 {
             return gauge;
@@ -100,6 +130,8 @@ impl GaugeTrace {
         } else {
             self.crossing(first - 1, level)
         };
+        gauge.rise_time_s =
+            self.first_crossing(RISE_TO * peak) - self.first_crossing(RISE_FROM * peak);
         let peak_at = p
             .iter()
             .position(|&x| x == peak)
@@ -187,6 +219,31 @@ mod tests {
         assert!((g.impulse_pa_s / exact_impulse - 1.0).abs() < 1e-3, "{g:?}");
         assert!(g.positive_phase_ended);
         assert!((g.peak_velocity_m_s - peak / 400.0).abs() < 1.0);
+        // a jump: the rise is shorter than a sampling interval
+        assert!(
+            g.rise_time_s >= 0.0 && g.rise_time_s < 6e-7,
+            "{}",
+            g.rise_time_s
+        );
+    }
+
+    /// A linear ramp from 0 at t0 to P at t0 + T rises from 10 % to 90 % in 0.8 T, exactly
+    /// (the crossings are interpolated linearly, as the ramp is).
+    #[test]
+    fn a_ramp_rises_over_four_fifths_of_its_length() {
+        let (t0, length, peak) = (1e-3, 4e-3, 2e5);
+        let mut trace = GaugeTrace::new("ramp", 1.0);
+        for k in 0..=1000 {
+            let t = 10e-3 * k as f64 / 1000.0;
+            let p = (peak * (t - t0) / length).clamp(0.0, peak);
+            trace.push(t, p, 0.0);
+        }
+        let g = trace.summary();
+        assert!(
+            (g.rise_time_s - 0.8 * length).abs() < 1e-12,
+            "{}",
+            g.rise_time_s
+        );
     }
 
     #[test]
@@ -197,6 +254,7 @@ mod tests {
         }
         let g = trace.summary();
         assert!(g.arrival_s.is_nan());
+        assert!(g.rise_time_s.is_nan());
         assert_eq!(g.impulse_pa_s, 0.0);
     }
 
