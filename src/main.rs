@@ -214,7 +214,7 @@ enum Command {
         /// A TM 5-855-1 soil with a material model: dry-sand-backfill.
         #[arg(long)]
         soil: String,
-        /// The study's gauge depths below the charge (m), comma-separated.
+        /// The study's crown depths below the charge (m), comma-separated.
         #[arg(
             long,
             value_delimiter = ',',
@@ -222,6 +222,13 @@ enum Command {
             allow_negative_numbers = true
         )]
         depths: Vec<f64>,
+        /// The study's tunnel: internal diameter (m), which places the gauges (crowns,
+        /// inverts, the sections' half-width) and sizes the free field's domain.
+        #[arg(long, default_value_t = 6.0)]
+        diameter: f64,
+        /// The study's tunnel: lining thickness (m).
+        #[arg(long, default_value_t = 0.35)]
+        lining: f64,
         /// quick: 3 and 4 particles across the charge (the quick study's); full: 4 and 6.
         #[arg(long, value_enum, default_value = "quick")]
         level: LevelArg,
@@ -468,6 +475,8 @@ fn main() -> ExitCode {
             charge,
             soil,
             depths,
+            diameter,
+            lining,
             level,
             out,
             json,
@@ -476,6 +485,11 @@ fn main() -> ExitCode {
                 charge_kg: charge,
                 soil,
                 depths_m: depths,
+                tunnel: tunnel::Tunnel {
+                    inner_diameter_m: diameter,
+                    lining_m: lining,
+                    ..tunnel::Tunnel::default()
+                },
                 level: level.into(),
             };
             return match gate_command(&request, &out, json) {

@@ -42,7 +42,7 @@ use std::sync::Arc;
 /// neither; these are the defaults the study states), the lining's von Mises yield stress and
 /// its tensile strength (Rankine: where the largest principal stress reaches it the lining
 /// cracks, its status `failed`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tunnel {
     pub inner_diameter_m: f64,
     pub lining_m: f64,
@@ -848,6 +848,67 @@ fn section_soil_spacing(tunnel: Tunnel, resolution: Resolution) -> f64 {
     2.0 * tunnel.lining_m / resolution.across_lining as f64
 }
 
+/// How far from the axis the free field's gauge `side-k` reads it beside each crown: four
+/// outer radii.
+fn free_field_side_gauge(tunnel: Tunnel) -> f64 {
+    4.0 * (0.5 * tunnel.inner_diameter_m + tunnel.lining_m)
+}
+
+/// Where the study's free field reaches for crown depths `depths_m` at `resolution`, and
+/// where its sections read it: what the gate must check.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeFieldReach {
+    /// Out from the axis and down from the surface (m): beyond the sections and the side
+    /// gauges by a quarter of the deepest section's reach, room for the free field's own
+    /// transmitting sides.
+    pub radius_m: f64,
+    pub depth_m: f64,
+    /// The sections' half-width: their bands read the free field out to this distance from
+    /// the axis (m).
+    pub band_reach_m: f64,
+}
+
+pub fn free_field_reach(
+    depths_m: &[f64],
+    tunnel: Tunnel,
+    resolution: Resolution,
+) -> FreeFieldReach {
+    let sections: Vec<Section> = depths_m
+        .iter()
+        .map(|&depth_m| {
+            let case = Case {
+                depth_m,
+                charge_kg: 0.0,
+            };
+            Section::new(case, tunnel, resolution)
+        })
+        .collect();
+    let band_reach_m = sections.iter().map(|s| s.half_width).fold(0.0, f64::max);
+    let reach_r = band_reach_m.max(free_field_side_gauge(tunnel));
+    let reach_z = sections
+        .iter()
+        .map(|s| -(s.centre_z - s.half_width))
+        .fold(0.0, f64::max);
+    let margin = 0.25 * reach_z;
+    FreeFieldReach {
+        radius_m: reach_r + margin,
+        depth_m: reach_z + margin,
+        band_reach_m,
+    }
+}
+
+/// The depths of the crown's and the invert's outer faces for crown depths `depths_m`.
+pub fn crown_and_invert_depths(depths_m: &[f64], tunnel: Tunnel) -> Vec<f64> {
+    let outer = 0.5 * tunnel.inner_diameter_m + tunnel.lining_m;
+    let mut all: Vec<f64> = depths_m
+        .iter()
+        .flat_map(|&d| [d, d + 2.0 * outer])
+        .collect();
+    all.sort_by(f64::total_cmp);
+    all.dedup();
+    all
+}
+
 fn prepare_charge(
     charge_kg: f64,
     depths_m: &[f64],
@@ -859,7 +920,7 @@ fn prepare_charge(
     let deepest = depths_m.iter().copied().fold(0.0, f64::max);
     let end = end_time(deepest, tunnel, c_p);
     let outer = 0.5 * tunnel.inner_diameter_m + tunnel.lining_m;
-    let side_r = 4.0 * outer;
+    let side_r = free_field_side_gauge(tunnel);
     let geometry: Vec<(Case, Section)> = depths_m
         .iter()
         .map(|&depth_m| {
@@ -867,16 +928,7 @@ fn prepare_charge(
             (case, Section::new(case, tunnel, resolution))
         })
         .collect();
-    let reach_r = geometry
-        .iter()
-        .map(|(_, s)| s.half_width)
-        .fold(side_r, f64::max);
-    let reach_z = geometry
-        .iter()
-        .map(|(_, s)| -(s.centre_z - s.half_width))
-        .fold(0.0, f64::max);
-    // room beyond the sections for the free field's own transmitting sides
-    let margin = 0.25 * reach_z;
+    let reach = free_field_reach(depths_m, tunnel, resolution);
     // the free field's gauges `at-crown-k` where the k-th crown will be and `side-k` beside it
     let gauges: Vec<(String, [f64; 2])> = geometry
         .iter()
@@ -895,8 +947,8 @@ fn prepare_charge(
             charge_kg,
             soil,
             across_charge: resolution.across_charge,
-            radius_m: reach_r + margin,
-            depth_m: reach_z + margin,
+            radius_m: reach.radius_m,
+            depth_m: reach.depth_m,
             far_spacing_m: far_spacing,
             gauges,
             end_time_s: end,
@@ -1037,6 +1089,24 @@ pub const DEPTH_RANGE_M: (f64, f64) = (2.0, 60.0);
 pub const CHARGE_RANGE_KG: (f64, f64) = (1.0, 2e4);
 
 /// Refuses a request outside the study's ranges, naming the option and the range.
+/// Refuses a tunnel the study cannot model, naming the field: an internal diameter outside
+/// 1–20 m or a lining outside 0.1–2 m.
+pub fn validate_tunnel(tunnel: Tunnel) -> Result<(), VerifyError> {
+    let within = |field: &str, v: f64, (lo, hi): (f64, f64)| {
+        if (lo..=hi).contains(&v) {
+            Ok(())
+        } else {
+            Err(VerifyError::bad_value(
+                field,
+                v,
+                &format!("{lo} ≤ {field} ≤ {hi} m"),
+            ))
+        }
+    };
+    within("--diameter", tunnel.inner_diameter_m, (1.0, 20.0))?;
+    within("--lining", tunnel.lining_m, (0.1, 2.0))
+}
+
 pub fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
     let within = |field: &str, v: f64, (lo, hi): (f64, f64), unit: &str| {
         if (lo..=hi).contains(&v) {
@@ -1062,13 +1132,7 @@ pub fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
     for &w in &request.charges_kg {
         within("--charges", w, CHARGE_RANGE_KG, "kg")?;
     }
-    within(
-        "--diameter",
-        request.tunnel.inner_diameter_m,
-        (1.0, 20.0),
-        "m",
-    )?;
-    within("--lining", request.tunnel.lining_m, (0.1, 2.0), "m")?;
+    validate_tunnel(request.tunnel)?;
     soil_model(&request.soil)?;
     if request.level == Level::Full {
         // the 3D model's bodies must fill without overlapping or jumping in spacing (a small
@@ -1133,6 +1197,7 @@ pub fn run_study(
                 charge_kg,
                 soil: request.soil.clone(),
                 depths_m: request.depths_m.clone(),
+                tunnel: request.tunnel,
                 level: request.level,
             };
             let (report, _) = run_gate(&gate_request, &out.join("gate"), progress)?;
@@ -2348,6 +2413,7 @@ mod tests {
             charge_kg: 500.0,
             soil: "dry-sand-backfill".into(),
             depths_m: vec![10.0],
+            tunnel: Tunnel::default(),
             level: Level::Quick,
         };
         let hash = crate::gate::inputs_hash(&gate_request).unwrap();

@@ -114,6 +114,16 @@ pub fn info() -> super::ProblemInfo {
                 10.0,
                 "a second gauge at each depth this far off the axis (m)",
             ),
+            ParamSpec::new(
+                "radius",
+                "auto",
+                "how far the soil reaches from the axis (m; auto: the offset and a quarter of the deepest gauge's depth)",
+            ),
+            ParamSpec::new(
+                "depth",
+                "auto",
+                "how deep the soil reaches (m; auto: the deepest gauge's depth and a quarter more)",
+            ),
             ParamSpec::per_level(
                 "n",
                 "3,4",
@@ -140,6 +150,9 @@ struct Settings {
     soil: Soil,
     depths_m: Vec<f64>,
     offset_m: f64,
+    /// How far the soil reaches: out from the axis and down from the surface (m).
+    radius_m: f64,
+    depth_m: f64,
     far_spacing_m: f64,
     /// The coupling factor's range for a hemisphere lying on the ground: [by its centroid,
     /// by the centre of its face] (see the module's comment).
@@ -186,13 +199,43 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     };
     // the hemisphere's centroid lies 3R/8 above the ground
     let centroid_depth = -3.0 * radius / 8.0 / charge_kg.cbrt();
+    let offset_m = params.number("offset", 0.0, 100.0)?;
+    let deepest = *depths_m.last().expect("at least one depth");
+    let extent = |key: &str, auto: f64, beyond: f64, what: &str| -> Result<f64, VerifyError> {
+        if params.text(key) == "auto" {
+            return Ok(auto);
+        }
+        let value = params.number(key, 0.0, 1e3)?;
+        if value <= beyond {
+            return Err(VerifyError::bad_value(
+                &format!("{key} (m)"),
+                value,
+                &format!("auto, or beyond {what}, > {beyond} m"),
+            ));
+        }
+        Ok(value)
+    };
+    let radius_m = extent(
+        "radius",
+        offset_m + MARGIN * deepest,
+        offset_m,
+        "the offset gauges",
+    )?;
+    let depth_m = extent(
+        "depth",
+        (1.0 + MARGIN) * deepest,
+        deepest,
+        "the deepest gauge",
+    )?;
     Ok(Settings {
         charge_kg,
         handbook_soil,
         reference_soil: simulated_soil(handbook_soil, &simulated)?,
         soil: simulated,
         depths_m,
-        offset_m: params.number("offset", 0.0, 100.0)?,
+        offset_m,
+        radius_m,
+        depth_m,
         far_spacing_m: params.number("far_spacing", 1e-3, 10.0)?,
         coupling: [coupling_factor(centroid_depth), coupling_factor(0.0)],
     })
@@ -335,7 +378,6 @@ fn run_one(
     air_blast: bool,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Measured, VerifyError> {
-    let deepest = *s.depths_m.last().expect("at least one depth");
     let places = gauge_places(s);
     let farthest = places
         .iter()
@@ -351,8 +393,8 @@ fn run_one(
         charge_kg: s.charge_kg,
         soil: &s.soil,
         across_charge: n,
-        radius_m: s.offset_m + MARGIN * deepest,
-        depth_m: (1.0 + MARGIN) * deepest,
+        radius_m: s.radius_m,
+        depth_m: s.depth_m,
         far_spacing_m: s.far_spacing_m * FAR_SPACING_AT / n as f64,
         gauges: &if air_blast {
             air_gauges(s.charge_kg)
