@@ -25,6 +25,19 @@ pub struct Gauge {
     pub rise_time_s: f64,
 }
 
+impl Gauge {
+    /// What loads a structure the gauge stands for, by name: the peak stress (or
+    /// overpressure), the peak velocity, the positive impulse and the rise time.
+    pub fn loading(&self) -> [(&'static str, f64); 4] {
+        [
+            ("peak_stress", self.peak_pressure_pa),
+            ("peak_velocity", self.peak_velocity_m_s),
+            ("impulse", self.impulse_pa_s),
+            ("rise_time", self.rise_time_s),
+        ]
+    }
+}
+
 fn not_a_number() -> f64 {
     f64::NAN
 }

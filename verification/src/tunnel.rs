@@ -1088,37 +1088,28 @@ model.";
 pub const DEPTH_RANGE_M: (f64, f64) = (2.0, 60.0);
 pub const CHARGE_RANGE_KG: (f64, f64) = (1.0, 2e4);
 
-/// Refuses a request outside the study's ranges, naming the option and the range.
+/// Refuses `value` of `field` outside [lo, hi] (in `unit`), naming the field and the range.
+fn within(field: &str, value: f64, (lo, hi): (f64, f64), unit: &str) -> Result<(), VerifyError> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(VerifyError::bad_value(
+            field,
+            value,
+            &format!("{lo} ≤ {field} ≤ {hi} {unit}"),
+        ))
+    }
+}
+
 /// Refuses a tunnel the study cannot model, naming the field: an internal diameter outside
 /// 1–20 m or a lining outside 0.1–2 m.
 pub fn validate_tunnel(tunnel: Tunnel) -> Result<(), VerifyError> {
-    let within = |field: &str, v: f64, (lo, hi): (f64, f64)| {
-        if (lo..=hi).contains(&v) {
-            Ok(())
-        } else {
-            Err(VerifyError::bad_value(
-                field,
-                v,
-                &format!("{lo} ≤ {field} ≤ {hi} m"),
-            ))
-        }
-    };
-    within("--diameter", tunnel.inner_diameter_m, (1.0, 20.0))?;
-    within("--lining", tunnel.lining_m, (0.1, 2.0))
+    within("--diameter", tunnel.inner_diameter_m, (1.0, 20.0), "m")?;
+    within("--lining", tunnel.lining_m, (0.1, 2.0), "m")
 }
 
+/// Refuses a request outside the study's ranges, naming the option and the range.
 pub fn validate(request: &StudyRequest) -> Result<(), VerifyError> {
-    let within = |field: &str, v: f64, (lo, hi): (f64, f64), unit: &str| {
-        if (lo..=hi).contains(&v) {
-            Ok(())
-        } else {
-            Err(VerifyError::bad_value(
-                field,
-                v,
-                &format!("{lo} ≤ {field} ≤ {hi} {unit}"),
-            ))
-        }
-    };
     if request.depths_m.is_empty() || request.charges_kg.is_empty() {
         return Err(VerifyError::bad_value(
             "--depths/--charges",

@@ -733,20 +733,7 @@ pub fn run(
             let Some(other) = coarse.gauges.iter().find(|g| g.name == gauge.name) else {
                 continue;
             };
-            for (q, a, b) in [
-                (
-                    "peak_stress",
-                    other.peak_pressure_pa,
-                    gauge.peak_pressure_pa,
-                ),
-                (
-                    "peak_velocity",
-                    other.peak_velocity_m_s,
-                    gauge.peak_velocity_m_s,
-                ),
-                ("impulse", other.impulse_pa_s, gauge.impulse_pa_s),
-                ("rise_time", other.rise_time_s, gauge.rise_time_s),
-            ] {
+            for ((q, a), (_, b)) in other.loading().into_iter().zip(gauge.loading()) {
                 checks.push(Check::at_most(
                     format!("{q}_change_two_finest_{}", gauge.name),
                     (b / a - 1.0).abs(),
