@@ -2392,6 +2392,43 @@ mod tests {
         }
     }
 
+    /// The study's standing reads "validated" when every gate passed, "validated with
+    /// qualifications" naming the qualified charges when the worst is QUALIFIED, and the NOT
+    /// VALIDATED stamp naming the failed charges when one failed.
+    #[test]
+    fn the_study_states_its_gates_outcome() {
+        let verdict = |charge_kg: f64, outcome: Outcome| GateVerdict {
+            charge_kg,
+            outcome,
+            inputs_hash: String::new(),
+            qualifications: Vec::new(),
+            failures: Vec::new(),
+        };
+        let passed = [
+            verdict(500.0, Outcome::Pass),
+            verdict(1000.0, Outcome::Pass),
+        ];
+        assert!(gate_statement(&passed).contains("validated (every gate passed)"));
+        let qualified = [
+            verdict(500.0, Outcome::Pass),
+            verdict(1000.0, Outcome::Qualified),
+        ];
+        let text = gate_statement(&qualified);
+        assert!(
+            text.contains("validated with qualifications (1000 kg)"),
+            "{text}"
+        );
+        let failed = [
+            verdict(500.0, Outcome::Fail),
+            verdict(1000.0, Outcome::Qualified),
+        ];
+        let text = gate_statement(&failed);
+        assert!(
+            text.starts_with(NOT_VALIDATED) && text.contains("(500 kg)"),
+            "{text}"
+        );
+    }
+
     /// A study whose gate failed runs nothing beyond it and writes no tunnel result: no free
     /// field, no case; the verdict it returns names the charge, its outcome and the failed
     /// check. (The gate's report is put where the study looks for it, under the hash of its
