@@ -21,7 +21,10 @@ pub struct Gauge {
     /// The front's rise: from the first time the overpressure reached 10 % of its peak to the
     /// first time it reached 90 % (NaN if it never rose). A structure's response to a pulse
     /// depends on how fast it loads, not only on its peak.
-    #[serde(default = "not_a_number", deserialize_with = "number_or_nan")]
+    #[serde(
+        default = "not_a_number",
+        deserialize_with = "crate::record::number_or_nan"
+    )]
     pub rise_time_s: f64,
 }
 
@@ -40,12 +43,6 @@ impl Gauge {
 
 fn not_a_number() -> f64 {
     f64::NAN
-}
-
-/// A number as JSON writes it, `null` for a NaN.
-fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    use serde::Deserialize;
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// The fractions of the peak between whose first crossings the rise time runs.

@@ -153,8 +153,8 @@ impl Qualification {
     }
 }
 
-/// A number as JSON writes it, `null` for a NaN.
-fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+/// A number as JSON writes it, `null` for a NaN (serde's `deserialize_with`).
+pub(crate) fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 

@@ -537,18 +537,13 @@ fn record_free_field(
 /// as null in JSON and read back as NaN, so that a kept case with one is still reused).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GaugeReading {
-    #[serde(deserialize_with = "number_or_nan")]
+    #[serde(deserialize_with = "crate::record::number_or_nan")]
     pub arrival_s: f64,
     /// Pressures and stresses are total: the geostatic state's included.
     pub peak_pressure_pa: f64,
     pub peak_velocity_m_s: f64,
     pub peak_displacement_m: f64,
     pub peak_von_mises_pa: f64,
-}
-
-/// A number, or NaN where JSON holds null (serde_json writes a NaN as null).
-fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Option::<f64>::deserialize(d).map(|v| v.unwrap_or(f64::NAN))
 }
 
 impl GaugeReading {
@@ -710,7 +705,7 @@ pub struct FullCase {
     pub particles: usize,
     /// |ΔE| over the energy at the start (the charge's), with what left through the
     /// transmitting sides counted.
-    #[serde(deserialize_with = "number_or_nan")]
+    #[serde(deserialize_with = "crate::record::number_or_nan")]
     pub energy_relative_error: f64,
     /// The quick case's value over the 3D model's: crown peak von Mises stress, crown and
     /// invert peak velocity, crown arrival.
