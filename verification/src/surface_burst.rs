@@ -203,3 +203,27 @@ pub fn p_wave_speed(soil: &Soil) -> Result<f64, VerifyError> {
     let shear = material.strength.map_or(0.0, |st| st.shear_modulus);
     Ok((c0 * c0 + 4.0 * shear / (3.0 * rho0)).sqrt())
 }
+
+/// The relations' soil in the simulated sand's own terms: its density at rest and its
+/// small-strain (seismic) P-wave speed √((K + 4G/3)/ρ0), with the attenuation exponent of the
+/// TM 5-855-1 class it stands for. The relations are laws in a soil's ρ, c and n; the class
+/// fixes how the soil attenuates, the thing under test, while its handbook ρ and c describe
+/// the class's typical soil, not this one: compared with them, any model sand of another
+/// seismic speed would be early or late by construction.
+pub fn relations_soil(
+    class: &crate::scaled::ground_shock::Soil,
+    soil: &Soil,
+) -> Result<crate::scaled::ground_shock::Soil, VerifyError> {
+    let density = crate::materials::Library::standard().value(&soil.library, "rho0")?;
+    Ok(crate::scaled::ground_shock::Soil {
+        name: "simulated",
+        description: format!(
+            "the simulated {} (its own density and small-strain P-wave speed) with the \
+             attenuation exponent of {}",
+            soil.library, class.name
+        ),
+        density_kg_m3: density,
+        wave_speed_m_s: p_wave_speed(soil)?,
+        attenuation: class.attenuation,
+    })
+}

@@ -13,7 +13,7 @@
 //!
 //! The relations' soil: the simulated sand's own density and small-strain P-wave speed with
 //! the attenuation exponent of the TM 5-855-1 class it stands for (dry sand and backfill,
-//! n = 2.75; see [`simulated_soil`]); the record also gives every ratio against the class's
+//! n = 2.75; see [`relations_soil`]); the record also gives every ratio against the class's
 //! handbook density and seismic speed (1630 kg/m³, 305 m/s), `_over_handbook_relations_`.
 //!
 //! The coupling factor is a range, not a value: a hemisphere lying on the ground has its face's
@@ -64,11 +64,11 @@ use crate::scaled::air_blast::{air_blast as air_blast_relations, Burst};
 use crate::scaled::arrivals::fastest_shock_speed;
 use crate::scaled::explosives::explosive;
 use crate::scaled::ground_shock::{
-    coupling_factor, ground_shock, scaled_range, soil, GroundShock, Soil as GroundShockSoil,
-    MIN_SCALED_RANGE,
+    coupling_factor, factor_from_range, ground_shock, scaled_range, soil, GroundShock,
+    Soil as GroundShockSoil, MIN_SCALED_RANGE,
 };
 use crate::scene::{current_index, particles, run_with, Checkpoints, Observer};
-use crate::surface_burst::{hemisphere_radius, p_wave_speed, Soil, SurfaceBurst};
+use crate::surface_burst::{hemisphere_radius, p_wave_speed, relations_soil, Soil, SurfaceBurst};
 use crate::svg::{Figure, Panel, Series, Style};
 use crate::{Level, VerifyError};
 use blastsph_solver::Simulation;
@@ -148,7 +148,7 @@ struct Settings {
     /// for the handbook's reference ratios.
     handbook_soil: &'static GroundShockSoil,
     /// The relations in the simulated sand's own terms, which the checks use (see
-    /// [`simulated_soil`]).
+    /// [`relations_soil`]).
     reference_soil: GroundShockSoil,
     soil: Soil,
     depths_m: Vec<f64>,
@@ -160,27 +160,6 @@ struct Settings {
     /// The coupling factor's range for a hemisphere lying on the ground: [by its centroid,
     /// by the centre of its face] (see the module's comment).
     coupling: [f64; 2],
-}
-
-/// The relations' soil in the simulated sand's own terms: its density at rest and its
-/// small-strain (seismic) P-wave speed √((K + 4G/3)/ρ0), with the attenuation exponent of the
-/// TM 5-855-1 class it stands for. The relations are laws in a soil's ρ, c and n; the class
-/// fixes how the soil attenuates, the thing under test, while its handbook ρ and c describe
-/// the class's typical soil, not this one: compared with them, any model sand of another
-/// seismic speed would be early or late by construction.
-fn simulated_soil(class: &GroundShockSoil, soil: &Soil) -> Result<GroundShockSoil, VerifyError> {
-    let density = Library::standard().value(&soil.library, "rho0")?;
-    Ok(GroundShockSoil {
-        name: "simulated",
-        description: format!(
-            "the simulated {} (its own density and small-strain P-wave speed) with the \
-             attenuation exponent of {}",
-            soil.library, class.name
-        ),
-        density_kg_m3: density,
-        wave_speed_m_s: p_wave_speed(soil)?,
-        attenuation: class.attenuation,
-    })
 }
 
 fn settings(params: &Params) -> Result<Settings, VerifyError> {
@@ -233,7 +212,7 @@ fn settings(params: &Params) -> Result<Settings, VerifyError> {
     Ok(Settings {
         charge_kg,
         handbook_soil,
-        reference_soil: simulated_soil(handbook_soil, &simulated)?,
+        reference_soil: relations_soil(handbook_soil, &simulated)?,
         soil: simulated,
         depths_m,
         offset_m,
@@ -324,21 +303,6 @@ fn reference(
         return Ok(None);
     }
     ground_shock(soil, tnt, s.charge_kg, range_m, coupling).map(Some)
-}
-
-/// The factor by which a peak lies outside the relations' range [R(f_low), R(f_high)], from
-/// its ratios to each end: `over_high` = peak / R(f_high) when above it, R(f_low) / peak
-/// when below the lower end, 1 between them; NaN where either ratio is (a NaN never passes).
-fn factor_from_range(over_high: f64, over_low: f64) -> f64 {
-    if over_high.is_nan() || over_low.is_nan() {
-        f64::NAN
-    } else if over_high > 1.0 {
-        over_high
-    } else if over_low < 1.0 {
-        1.0 / over_low
-    } else {
-        1.0
-    }
 }
 
 /// The gauges' places: on the axis and `offset` off it at each depth.
@@ -852,18 +816,6 @@ mod tests {
         assert!(surface_load_directivity(FRAC_PI_2, 0.22).abs() < 1e-15);
         let at_45 = surface_load_directivity(FRAC_PI_2 / 2.0, 0.25);
         assert!((at_45 - 0.680339).abs() < 1e-6, "{at_45}");
-    }
-
-    /// A peak between the relations at the two ends of the coupling range is 1 from them;
-    /// above the upper end by its ratio to it, below the lower end by the inverse of its
-    /// ratio to that; a NaN stays NaN, so that it fails.
-    #[test]
-    fn the_factor_from_the_relations_range() {
-        assert_eq!(factor_from_range(0.9, 1.05), 1.0);
-        assert_eq!(factor_from_range(4.0, 4.6), 4.0);
-        assert_eq!(factor_from_range(0.2, 0.25), 4.0);
-        assert!(factor_from_range(f64::NAN, 1.0).is_nan());
-        assert!(factor_from_range(1.0, f64::NAN).is_nan());
     }
 
     /// The simulated sand's relations use its own density and small-strain P-wave speed and

@@ -174,6 +174,21 @@ pub fn ground_shock(
     })
 }
 
+/// The factor by which a peak lies outside the relations' range [R(f_low), R(f_high)], from
+/// its ratios to each end: `over_high` = peak / R(f_high) when above it, R(f_low) / peak
+/// when below the lower end, 1 between them; NaN where either ratio is (a NaN never passes).
+pub fn factor_from_range(over_high: f64, over_low: f64) -> f64 {
+    if over_high.is_nan() || over_low.is_nan() {
+        f64::NAN
+    } else if over_high > 1.0 {
+        over_high
+    } else if over_low < 1.0 {
+        1.0 / over_low
+    } else {
+        1.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::explosives::explosive;
@@ -275,5 +290,17 @@ mod tests {
             assert!((exponent - (soil.attenuation - 1.0)).abs() < 1e-12);
             assert!((far.arrival_s - 20.0 / soil.wave_speed_m_s).abs() < 1e-15);
         }
+    }
+
+    /// A peak between the relations at the two ends of the coupling range is 1 from them;
+    /// above the upper end by its ratio to it, below the lower end by the inverse of its
+    /// ratio to that; a NaN stays NaN, so that it fails.
+    #[test]
+    fn the_factor_from_the_relations_range() {
+        assert_eq!(factor_from_range(0.9, 1.05), 1.0);
+        assert_eq!(factor_from_range(4.0, 4.6), 4.0);
+        assert_eq!(factor_from_range(0.2, 0.25), 4.0);
+        assert!(factor_from_range(f64::NAN, 1.0).is_nan());
+        assert!(factor_from_range(1.0, f64::NAN).is_nan());
     }
 }
