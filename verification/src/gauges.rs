@@ -256,6 +256,31 @@ mod tests {
         );
     }
 
+    /// The loading names each summary field it reads, in the order peak stress, peak
+    /// velocity, impulse, rise time.
+    #[test]
+    fn a_gauges_loading_names_its_fields() {
+        let g = Gauge {
+            name: "g".into(),
+            position_m: 1.0,
+            arrival_s: 0.5,
+            peak_pressure_pa: 2.0,
+            peak_velocity_m_s: 3.0,
+            impulse_pa_s: 4.0,
+            positive_phase_ended: true,
+            rise_time_s: 5.0,
+        };
+        assert_eq!(
+            g.loading(),
+            [
+                ("peak_stress", 2.0),
+                ("peak_velocity", 3.0),
+                ("impulse", 4.0),
+                ("rise_time", 5.0)
+            ]
+        );
+    }
+
     #[test]
     fn a_gauge_that_saw_nothing_has_no_arrival() {
         let mut trace = GaugeTrace::new("quiet", 1.0);
