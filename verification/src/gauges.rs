@@ -281,6 +281,19 @@ mod tests {
         );
     }
 
+    /// A gauge kept before the rise time was read comes back with a NaN rise time, never a
+    /// made-up number; one written with a NaN (JSON's null) likewise.
+    #[test]
+    fn a_gauge_without_a_rise_time_reads_nan() {
+        let old = r#"{"name":"g","position_m":1.0,"arrival_s":0.5,"peak_pressure_pa":2.0,
+            "peak_velocity_m_s":3.0,"impulse_pa_s":4.0,"positive_phase_ended":true}"#;
+        let g: Gauge = serde_json::from_str(old).unwrap();
+        assert!(g.rise_time_s.is_nan());
+        let null = old.replace("true}", r#"true,"rise_time_s":null}"#);
+        let g: Gauge = serde_json::from_str(&null).unwrap();
+        assert!(g.rise_time_s.is_nan());
+    }
+
     #[test]
     fn a_gauge_that_saw_nothing_has_no_arrival() {
         let mut trace = GaugeTrace::new("quiet", 1.0);
